@@ -1,0 +1,89 @@
+// `isocorr eval MAP --dataset DIR --source S --target T`: scores a map against ground truth.
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "isocorr/eval/ground_truth.h"
+#include "isocorr/eval/metrics.h"
+#include "isocorr/mesh/mesh_io.h"
+#include "isocorr/util/error.h"
+#include "isocorr/geodesic/geodesic_diameter.h"
+
+namespace isocorr::cli {
+namespace {
+
+struct EvalArguments {
+  std::string map, dataset, source, target, gt_kind;
+  int max_points = 2000;
+  bool json = false;
+};
+
+int run_eval(const EvalArguments& args) {
+  try {
+    BenchmarkPair pair{args.dataset + "/" + args.source, args.dataset + "/" + args.target, args.gt_kind, ""};
+    if (pair.gt_kind.empty()) {  // look the pair up in the dataset's list
+      for (const auto& listed : read_pairs_tsv(args.dataset))
+        if (listed.source_path == pair.source_path && listed.target_path == pair.target_path) pair = listed;
+      if (pair.gt_kind.empty())
+        throw InputError("pair not in " + args.dataset + "/pairs.tsv; give --gt-kind");
+    }
+    const std::vector<int> forward = read_vertex_map(args.map);
+    const LoadedMesh source = load_mesh(pair.source_path);
+    const LoadedMesh target = load_mesh(pair.target_path);
+    if (static_cast<int>(forward.size()) != source.mesh.num_vertices())
+      throw InputError("map has " + std::to_string(forward.size()) + " lines but the source has " +
+                       std::to_string(source.mesh.num_vertices()) + " vertices");
+    for (int t : forward)
+      if (t >= target.mesh.num_vertices())
+        throw InputError("map refers to target vertex " + std::to_string(t) + " beyond the target's " +
+                         std::to_string(target.mesh.num_vertices()));
+    const GroundTruth truth =
+        load_ground_truth(args.dataset, pair, source.mesh.num_vertices(), target.mesh.num_vertices());
+    const MeshTopology topology(target.mesh);
+    const FastMarching geodesics(target.mesh, topology);
+    const double diameter = estimate_geodesic_diameter(geodesics);
+    EvaluationOptions options;
+    options.max_points = args.max_points;
+    const GroundTruthScore score = score_against_ground_truth(target.mesh, geodesics, diameter, forward, truth, options);
+    if (args.json) {
+      nlohmann::json out = {{"evaluated", score.evaluated},     {"d_grd", score.mean_error},
+                            {"d_grd_max", score.max_error},     {"kim_auc", score.kim_auc},
+                            {"kim_mean", score.mean_kim_error}, {"mirrored_fraction", score.mirrored_fraction},
+                            {"far_fraction", score.far_fraction}, {"flip_free", score.flip_free},
+                            {"flip_rule", score.flip_rule},     {"ground_truth", truth.description}};
+      std::printf("%s\n", out.dump(2).c_str());
+    } else {
+      std::printf("ground truth   %s\nevaluated      %d points\nD_grd          %.4f\nd_grd-dagger   %.4f\n"
+                  "Kim AUC        %.4f\nmirrored       %.3f\nflip-free      %s (%s)\n",
+                  truth.description.c_str(), score.evaluated, score.mean_error, score.max_error, score.kim_auc,
+                  score.mirrored_fraction, score.flip_free ? "yes" : "no", score.flip_rule.c_str());
+    }
+    return kExitOk;
+  } catch (const InputError& e) {
+    spdlog::error("{}", e.what());
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    spdlog::error("eval failed: {}", e.what());
+    return kExitFailure;
+  }
+}
+
+}  // namespace
+
+void register_eval_command(CLI::App& app, int& exit_code) {
+  auto args = std::make_shared<EvalArguments>();
+  CLI::App* cmd = app.add_subcommand("eval", "score a map against a benchmark dataset's ground truth");
+  cmd->add_option("map", args->map, "map file written by `isocorr match`")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--dataset", args->dataset, "dataset folder holding pairs.tsv (e.g. ../shared/data/tosca_hires)")
+      ->required()->check(CLI::ExistingDirectory);
+  cmd->add_option("--source", args->source, "source mesh path relative to the dataset folder")->required();
+  cmd->add_option("--target", args->target, "target mesh path relative to the dataset folder")->required();
+  cmd->add_option("--gt-kind", args->gt_kind, "ground-truth kind (default: looked up in pairs.tsv)");
+  cmd->add_option("--max-points", args->max_points, "ground-truth points scored (0 = all)")->capture_default_str();
+  cmd->add_flag("--json", args->json, "print JSON");
+  cmd->callback([args, &exit_code] { exit_code = run_eval(*args); });
+}
+
+}  // namespace isocorr::cli

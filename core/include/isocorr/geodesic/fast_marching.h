@@ -1,0 +1,56 @@
+// Geodesic distance fields by fast marching on the triangles of a mesh.
+//
+// Why fast marching: the engine needs hundreds of single-source fields per mesh and many
+// small fields cut off at a radius. Fast marching is local (a field cut off at radius r
+// costs about the vertices inside r), needs no factorisation, and is measured in
+// tests/core/fast_marching_test.cpp at about 1-3% mean error on irregular meshes, where
+// edge Dijkstra over-estimates by ~8%. Updates use the planar-wavefront solution inside a
+// triangle when the characteristic enters through it, and the edge update otherwise (so
+// obtuse triangles never produce non-causal values).
+#pragma once
+
+#include <limits>
+#include <vector>
+
+#include "isocorr/mesh/triangle_mesh.h"
+
+namespace isocorr {
+
+inline constexpr float kUnreached = std::numeric_limits<float>::infinity();
+
+class FastMarching {
+ public:
+  // Keeps references: `mesh` and `topology` must outlive this object.
+  FastMarching(const TriangleMesh& mesh, const MeshTopology& topology);
+
+  // Per-thread scratch space; one per concurrent caller.
+  struct Workspace {
+    std::vector<float> distance;     // #V, kUnreached outside the computed region
+    std::vector<unsigned char> state;
+    std::vector<int> touched;        // vertices whose distance is set, for cheap resets
+  };
+
+  // Distances from the source vertices (distance 0 at each) to every vertex, stopping once
+  // the front passes `cutoff` (vertices beyond it stay kUnreached) or, when `stop_at` >= 0,
+  // once that vertex's distance is final. The result is left in workspace.distance and
+  // the vertices it covers in workspace.touched.
+  void compute(const std::vector<int>& sources, Workspace& workspace,
+               float cutoff = kUnreached, int stop_at = -1) const;
+
+  // One-call form: a full field (#V) from a single source.
+  std::vector<float> distance_field(int source, float cutoff = kUnreached) const;
+
+  // Geodesic distance between two vertices (stops as soon as `to` is final).
+  float distance_between(int from, int to, Workspace& workspace) const;
+
+  const TriangleMesh& mesh() const { return mesh_; }
+  const MeshTopology& topology() const { return topology_; }
+
+ private:
+  float update_from_triangle(int target, int a, int b, const std::vector<float>& d) const;
+
+  const TriangleMesh& mesh_;
+  const MeshTopology& topology_;
+};
+
+}  // namespace isocorr

@@ -1,0 +1,69 @@
+// The whole pipeline for one pair: level-0 search -> flip tracking -> choice -> dense map.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "isocorr/matching/dense_map.h"
+#include "isocorr/matching/flip_tracking.h"
+#include "isocorr/matching/level0_search.h"
+#include "isocorr/shape/preprocessed_shape.h"
+
+namespace isocorr {
+
+enum class SelectionRule {
+  kOrientationThenDistortion,  // default: drop tracked maps that reverse orientation, then least D_iso
+  kLeastDistortion,            // the paper's rule: least D_iso at level K1
+};
+
+struct MatchSettings {
+  PreprocessOptions preprocess;     // per-mesh part (cached per mesh by the service)
+  int level0_samples = 7;           // M (paper: up to 8)
+  int level0_extra_targets = 1;     // M' - M (paper: 1; the prototype found more useless)
+  double max_level0_diso = 0.15;    // level-0 maps above this are not kept (paper: 0.15)
+  int max_level0_maps = 300;        // at most this many sorted level-0 maps are kept
+  int min_tracked = 1;              // bounds on N from the jump rule
+  int max_tracked = 16;
+  SelectionRule selection = SelectionRule::kOrientationThenDistortion;
+  double orientation_threshold = 0.5;  // tracked maps below this fraction are mirrored
+  TrackingOptions tracking;
+  DenseOptions dense;
+  int threads = 0;                  // 0 = all cores; results do not depend on it
+
+  // Throws InputError naming the first setting out of range.
+  void validate() const;
+};
+
+struct StageTiming {
+  std::string stage;
+  double seconds = 0;
+};
+
+struct MatchResult {
+  // In the input files' vertex numbering.
+  std::vector<int> forward;               // source vertex -> target vertex
+  std::vector<float> forward_confidence;  // d_iso of each forward pair
+  std::vector<int> reverse;               // target vertex -> source vertex
+  std::vector<float> reverse_confidence;
+
+  std::vector<Level0Map> level0;          // sorted by D_iso
+  int tracked_by_jump_rule = 0;           // N before the min/max bounds
+  std::vector<TrackedMap> tracked;
+  int chosen = 0;                         // index into `tracked`
+  double diso = 0;                        // D_iso of the dense forward map (over the anchors)
+  double diso_max = 0;                    // d_iso-dagger
+  double dense_orientation = 0;           // fraction of source faces keeping handedness
+  std::vector<StageTiming> timings;
+  std::vector<std::string> notes;         // repairs and remarks, for the report
+};
+
+// Matches two preprocessed shapes. Deterministic for given inputs and settings.
+MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShape& target,
+                         const MatchSettings& settings, const JobControl& control = {});
+
+// Convenience: preprocesses both meshes (in the same way as the service) and matches them.
+MatchResult match_meshes(const TriangleMesh& source, const TriangleMesh& target,
+                         const MatchSettings& settings, const JobControl& control = {});
+
+}  // namespace isocorr

@@ -1,0 +1,36 @@
+// Turns a loaded mesh into one the engine can trust, without ever renumbering the output.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "isocorr/mesh/triangle_mesh.h"
+
+namespace isocorr {
+
+struct CleaningOptions {
+  // Vertices closer than this fraction of the bounding-box diagonal are welded, where the
+  // surface is open (vertices on boundary edges or unused); coincident vertices inside closed
+  // fans are points where the surface touches itself and stay apart.
+  double weld_tolerance = 1e-9;
+  // Keep only the largest connected component (by area); other vertices are mapped to
+  // their nearest kept vertex. When false, several components are an InputError.
+  bool keep_largest_component = true;
+};
+
+// The engine's mesh plus the bridge back to the file's numbering.
+struct CleanMesh {
+  TriangleMesh mesh;                  // compact, consistently oriented (outward when closed)
+  std::vector<int> input_to_clean;    // for every input vertex, its vertex in `mesh`
+  std::vector<int> clean_to_input;    // for every vertex of `mesh`, one input vertex
+  std::vector<std::string> repairs;   // each repair done, in words, for the report
+};
+
+// Validates and repairs: welds duplicate vertices, drops degenerate and duplicate faces,
+// drops unreferenced vertices (mapped to the nearest kept vertex), keeps the largest
+// component, makes face orientation consistent and outward. Throws InputError for what
+// cannot be repaired: no faces left, non-manifold edges (more than two faces on an
+// edge), a non-orientable surface.
+CleanMesh clean_mesh(const TriangleMesh& input, const CleaningOptions& options = {});
+
+}  // namespace isocorr

@@ -1,0 +1,79 @@
+// Everything the matcher needs from one mesh, computed once and shared by every job that
+// uses the mesh (the service caches these by mesh digest).
+//
+// Two faces, as for every expensive step: `PreprocessedShape::build` does the set-up
+// (cleaning, geodesics, saliency, the sample hierarchy and its distance fields); a match
+// is then a stream of cheap queries against it.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "isocorr/geodesic/fast_marching.h"
+#include "isocorr/mesh/mesh_cleaning.h"
+#include "isocorr/sampling/saliency.h"
+#include "isocorr/util/progress.h"
+
+namespace isocorr {
+
+struct PreprocessOptions {
+  SaliencyOptions saliency;
+  CleaningOptions cleaning;
+  double level0_radius = 0.2;   // level-0 sampling radius, fraction of the geodesic diameter
+  double level_shrink = 0.6;    // radius factor from one level to the next
+  int decision_level = 4;       // K1 (paper: 4, about 250 matched vertices)
+  int max_level0_samples = 9;   // level-0 samples kept per mesh (M' <= this)
+  int threads = 0;              // 0 = all cores
+
+  // Cache key part: two option sets with equal keys give identical preprocessing.
+  std::string key() const;
+};
+
+class PreprocessedShape {
+ public:
+  // Cleans `input` and computes everything. Throws InputError for unusable meshes and
+  // Cancelled when `control` asks.
+  static std::shared_ptr<const PreprocessedShape> build(const TriangleMesh& input,
+                                                        const PreprocessOptions& options,
+                                                        const JobControl& control = {});
+
+  const CleanMesh& clean() const { return clean_; }
+  const TriangleMesh& mesh() const { return clean_.mesh; }
+  const FastMarching& geodesics() const { return *geodesics_; }
+  const Saliency& saliency() const { return saliency_; }
+  const std::vector<Vec3>& normals() const { return normals_; }
+  double diameter() const { return diameter_; }
+  double area() const { return area_; }
+  double mean_edge() const { return mean_edge_; }
+  const PreprocessOptions& options() const { return options_; }
+
+  // The sample hierarchy. Sample i sits at vertex sample_vertex(i) and was accepted at
+  // schedule step sample_step(i): step 0 is level 0, step j >= 1 belongs to half-level j
+  // (radius level0_radius * level_shrink^(j/2)). Sources match the samples of steps <= 2k
+  // at level k, targets offer those of steps <= 2k+1 (the paper's M' > M margin).
+  int num_samples() const { return static_cast<int>(sample_vertices_.size()); }
+  int sample_vertex(int i) const { return sample_vertices_[i]; }
+  int sample_step(int i) const { return sample_steps_[i]; }
+  int num_level0_samples() const;
+  // Geodesic distance from sample i to vertex v, divided by the diameter.
+  float field(int i, int v) const { return fields_[static_cast<size_t>(i) * mesh().num_vertices() + v]; }
+  const float* field_row(int i) const { return fields_.data() + static_cast<size_t>(i) * mesh().num_vertices(); }
+
+  size_t memory_bytes() const;
+
+ private:
+  PreprocessedShape() = default;
+
+  PreprocessOptions options_;
+  CleanMesh clean_;
+  std::unique_ptr<MeshTopology> topology_;
+  std::unique_ptr<FastMarching> geodesics_;
+  Saliency saliency_;
+  std::vector<Vec3> normals_;
+  double diameter_ = 0, area_ = 0, mean_edge_ = 0;
+  std::vector<int> sample_vertices_, sample_steps_;
+  std::vector<float> fields_;
+};
+
+}  // namespace isocorr

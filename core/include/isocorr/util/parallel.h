@@ -1,0 +1,53 @@
+// A minimal parallel loop. Each index is computed independently and writes only its own
+// output, so results do not depend on the number of threads.
+#pragma once
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace isocorr {
+
+// Number of worker threads to use when a setting says 0 ("all cores").
+inline int resolve_thread_count(int requested) {
+  if (requested > 0) return requested;
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+// Calls body(i, worker) for i in [0, count) on `threads` workers; `worker` in
+// [0, threads) lets the body use per-thread scratch space. The first exception thrown by
+// any body is rethrown after all workers stop.
+inline void parallel_for(int count, int threads,
+                         const std::function<void(int index, int worker)>& body) {
+  threads = std::max(1, std::min(threads, count));
+  if (threads <= 1) {
+    for (int i = 0; i < count; ++i) body(i, 0);
+    return;
+  }
+  std::atomic<int> next{0};
+  std::atomic<bool> failed{false};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  auto work = [&](int worker) {
+    for (int i = next++; i < count && !failed; i = next++) {
+      try {
+        body(i, worker);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+        failed = true;
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int w = 1; w < threads; ++w) pool.emplace_back(work, w);
+  work(0);
+  for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace isocorr

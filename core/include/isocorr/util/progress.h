@@ -1,0 +1,33 @@
+// Progress reporting and cooperative cancellation, shared by every long-running stage.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <string>
+
+#include "isocorr/util/error.h"
+
+namespace isocorr {
+
+struct Progress {
+  std::string stage;   // "preprocess-source", "level0", "tracking", "dense", ...
+  int level = 0;       // level k of the coarse-to-fine hierarchy (0 when not applicable)
+  int levels = 0;      // K, the number of levels
+  double fraction = 0; // overall completion in [0, 1]
+};
+
+// Passed down by the caller (CLI, service). Both members are optional.
+struct JobControl {
+  std::function<void(const Progress&)> on_progress;
+  const std::atomic<bool>* cancel_requested = nullptr;
+
+  void report(const Progress& progress) const {
+    if (on_progress) on_progress(progress);
+  }
+  // Called at safe points inside loops; unwinds the job with Cancelled.
+  void check_cancelled() const {
+    if (cancel_requested && cancel_requested->load(std::memory_order_relaxed)) throw Cancelled();
+  }
+};
+
+}  // namespace isocorr

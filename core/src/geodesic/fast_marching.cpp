@@ -1,0 +1,128 @@
+#include "isocorr/geodesic/fast_marching.h"
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+#include <utility>
+
+namespace isocorr {
+namespace {
+
+enum : unsigned char { kFar = 0, kTrial = 1, kFinal = 2 };
+
+using HeapEntry = std::pair<float, int>;
+using MinHeap = std::priority_queue<HeapEntry, std::vector<HeapEntry>, std::greater<>>;
+
+}  // namespace
+
+FastMarching::FastMarching(const TriangleMesh& mesh, const MeshTopology& topology)
+    : mesh_(mesh), topology_(topology) {}
+
+// Solves for the distance at `target` given final distances at the triangle's other two
+// corners: the planar front d(x) = d_target + g.(x - target) with |g| = 1 that matches
+// both known corners. Accepted only if the front arrives from inside the triangle.
+float FastMarching::update_from_triangle(int target, int a, int b,
+                                         const std::vector<float>& d) const {
+  const Vec3& c = mesh_.vertices[target];
+  const Vec3 e1 = mesh_.vertices[a] - c;
+  const Vec3 e2 = mesh_.vertices[b] - c;
+  const double da = d[a], db = d[b];
+  const double edge_a = e1.norm(), edge_b = e2.norm();
+  double best = std::min(da + edge_a, db + edge_b);
+
+  const double g11 = e1.dot(e1), g12 = e1.dot(e2), g22 = e2.dot(e2);
+  const double det = g11 * g22 - g12 * g12;
+  if (det <= 1e-20 * g11 * g22) return static_cast<float>(best);
+  // Q = inverse Gram matrix.
+  const double q11 = g22 / det, q12 = -g12 / det, q22 = g11 / det;
+  const double sum_q = q11 + 2 * q12 + q22;                 // 1' Q 1
+  const double qu1 = q11 * da + q12 * db, qu2 = q12 * da + q22 * db;
+  const double one_q_u = qu1 + qu2;                          // 1' Q u
+  const double u_q_u = da * qu1 + db * qu2;                  // u' Q u
+  const double disc = one_q_u * one_q_u - sum_q * (u_q_u - 1.0);
+  if (disc < 0 || sum_q <= 0) return static_cast<float>(best);
+  const double dc = (one_q_u + std::sqrt(disc)) / sum_q;
+  // Upwind test: Q (u - dc 1) must be <= 0 in both components.
+  const double w1 = qu1 - dc * (q11 + q12);
+  const double w2 = qu2 - dc * (q12 + q22);
+  if (w1 <= 0 && w2 <= 0 && dc >= std::max(da, db)) best = std::min(best, dc);
+  return static_cast<float>(best);
+}
+
+void FastMarching::compute(const std::vector<int>& sources, Workspace& ws, float cutoff,
+                           int stop_at) const {
+  const int n = mesh_.num_vertices();
+  if (static_cast<int>(ws.distance.size()) != n) {
+    ws.distance.assign(n, kUnreached);
+    ws.state.assign(n, kFar);
+    ws.touched.clear();
+  } else {
+    for (int v : ws.touched) {
+      ws.distance[v] = kUnreached;
+      ws.state[v] = kFar;
+    }
+    ws.touched.clear();
+  }
+  std::vector<float>& d = ws.distance;
+  MinHeap heap;
+  for (int s : sources) {
+    if (s < 0 || s >= n || ws.state[s] != kFar) continue;
+    d[s] = 0.f;
+    ws.state[s] = kTrial;
+    ws.touched.push_back(s);
+    heap.push({0.f, s});
+  }
+  while (!heap.empty()) {
+    const auto [dist, v] = heap.top();
+    heap.pop();
+    if (ws.state[v] == kFinal || dist > d[v]) continue;  // stale entry
+    if (dist > cutoff) {
+      d[v] = kUnreached;  // beyond the cut-off: leave it unreached
+      continue;
+    }
+    ws.state[v] = kFinal;
+    if (v == stop_at) break;
+    // Every face around v may give its other corners a better value.
+    for (const int* f = topology_.faces_begin(v); f != topology_.faces_end(v); ++f) {
+      const Face& face = mesh_.faces[*f];
+      for (int k = 0; k < 3; ++k) {
+        const int target = face[k];
+        if (ws.state[target] == kFinal) continue;
+        const int a = face[(k + 1) % 3], b = face[(k + 2) % 3];
+        const int other = (a == v) ? b : a;
+        float candidate;
+        if (ws.state[other] == kFinal) {
+          candidate = update_from_triangle(target, v, other, d);
+        } else {
+          candidate = d[v] + static_cast<float>((mesh_.vertices[target] - mesh_.vertices[v]).norm());
+        }
+        if (candidate < d[target]) {
+          if (ws.state[target] == kFar) {
+            ws.state[target] = kTrial;
+            ws.touched.push_back(target);
+          }
+          d[target] = candidate;
+          heap.push({candidate, target});
+        }
+      }
+    }
+  }
+  // Anything still tentative was not finalised (cut-off or early stop): not reliable.
+  if (cutoff != kUnreached || stop_at >= 0) {
+    for (int v : ws.touched)
+      if (ws.state[v] != kFinal) d[v] = kUnreached;
+  }
+}
+
+std::vector<float> FastMarching::distance_field(int source, float cutoff) const {
+  Workspace ws;
+  compute({source}, ws, cutoff);
+  return std::move(ws.distance);
+}
+
+float FastMarching::distance_between(int from, int to, Workspace& ws) const {
+  compute({from}, ws, kUnreached, to);
+  return ws.distance[to];
+}
+
+}  // namespace isocorr

@@ -1,0 +1,173 @@
+#include "isocorr/matching/dense_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "isocorr/util/parallel.h"
+
+namespace isocorr {
+namespace {
+
+// Vertex-major table of normalised distances to the anchors: row v holds E floats.
+struct Descriptors {
+  int anchors = 0;
+  std::vector<float> values;
+  const float* row(int v) const { return values.data() + static_cast<size_t>(v) * anchors; }
+};
+
+// Rows are fields over `shape` (one per anchor, normalised by its diameter).
+Descriptors build_descriptors(int vertices, const std::vector<const float*>& fields) {
+  Descriptors d;
+  d.anchors = static_cast<int>(fields.size());
+  d.values.resize(static_cast<size_t>(vertices) * d.anchors);
+  for (int a = 0; a < d.anchors; ++a)
+    for (int v = 0; v < vertices; ++v) d.values[static_cast<size_t>(v) * d.anchors + a] = fields[a][v];
+  return d;
+}
+
+// Greedy descent over the one-ring (widened to the two-ring when stuck) of a cost defined
+// on the vertices of `topology`'s mesh. Returns the local minimum reached from `start`.
+template <typename Cost>
+int descend(const MeshTopology& topology, int start, Cost cost, float& best) {
+  int w = start;
+  best = cost(w);
+  for (;;) {
+    int next = -1;
+    for (const int* u = topology.neighbours_begin(w); u != topology.neighbours_end(w); ++u) {
+      const float c = cost(*u);
+      if (c < best) best = c, next = *u;
+    }
+    if (next < 0) {
+      for (const int* u = topology.neighbours_begin(w); u != topology.neighbours_end(w); ++u)
+        for (const int* z = topology.neighbours_begin(*u); z != topology.neighbours_end(*u); ++z) {
+          const float c = cost(*z);
+          if (c < best) best = c, next = *z;
+        }
+    }
+    if (next < 0) return w;
+    w = next;
+  }
+}
+
+float l1(const float* x, const float* y, int count) {
+  float sum = 0;
+  for (int i = 0; i < count; ++i) sum += std::abs(x[i] - y[i]);
+  return sum;
+}
+
+// One direction: images on `to` for every vertex of `from`.
+void match_direction(const PreprocessedShape& from, const Descriptors& from_desc,
+                     const PreprocessedShape& to, const Descriptors& to_desc,
+                     const std::vector<std::pair<int, int>>& seeds, int threads,
+                     const JobControl& control, std::vector<int>& image,
+                     std::vector<float>& cost) {
+  const int n = from.mesh().num_vertices();
+  const int e = from_desc.anchors;
+  const MeshTopology& from_topology = from.geodesics().topology();
+  const MeshTopology& to_topology = to.geodesics().topology();
+  image.assign(n, -1);
+  cost.assign(n, std::numeric_limits<float>::max());
+  std::vector<int> start(n, -1);
+
+  // Breadth-first layers from the seed vertices; each layer starts from the images found
+  // in the previous one, and its vertices are independent of each other.
+  std::vector<int> layer;
+  for (const auto& [v, w] : seeds)
+    if (start[v] < 0) start[v] = w, layer.push_back(v);
+  std::sort(layer.begin(), layer.end());
+
+  while (!layer.empty()) {
+    control.check_cancelled();
+    parallel_for(static_cast<int>(layer.size()), threads,
+                 [&](int i, int) {
+                   const int v = layer[i];
+                   const float* x = from_desc.row(v);
+                   float best = 0;
+                   image[v] = descend(to_topology, start[v], [&](int w) { return l1(x, to_desc.row(w), e); }, best);
+                   cost[v] = best / e;
+                 });
+    std::vector<int> next_layer;
+    for (int v : layer)
+      for (const int* u = from_topology.neighbours_begin(v); u != from_topology.neighbours_end(v); ++u)
+        if (start[*u] < 0) {
+          start[*u] = image[v];  // layer is sorted, so the smallest matched neighbour wins
+          next_layer.push_back(*u);
+        }
+    std::sort(next_layer.begin(), next_layer.end());
+    layer.swap(next_layer);
+  }
+}
+
+}  // namespace
+
+DenseMap compute_dense_map(const PreprocessedShape& source, const PreprocessedShape& target,
+                           const std::vector<SamplePair>& pairs, const DenseOptions& options,
+                           const JobControl& control) {
+  const int e = static_cast<int>(std::min(pairs.size(), static_cast<size_t>(std::max(1, options.anchor_count))));
+  const int threads = resolve_thread_count(options.threads);
+  const int source_n = source.mesh().num_vertices(), target_n = target.mesh().num_vertices();
+  std::vector<const float*> source_fields(e), target_fields(e);
+  std::vector<int> source_vertex(e), target_vertex(e);
+  for (int a = 0; a < e; ++a) {
+    source_fields[a] = source.field_row(pairs[a].source_sample);
+    target_fields[a] = target.field_row(pairs[a].target_sample);
+    source_vertex[a] = source.sample_vertex(pairs[a].source_sample);
+    target_vertex[a] = target.sample_vertex(pairs[a].target_sample);
+  }
+  const Descriptors source_desc = build_descriptors(source_n, source_fields);
+
+  // Anchor images are target samples, up to half a sample spacing from the true image.
+  // Each round moves every anchor's image to the vertex that best agrees with the other
+  // anchors, then recomputes the moved anchors' fields, so the dense level starts from
+  // vertex-accurate anchors.
+  std::vector<std::vector<float>> refined_fields(e);
+  const float inverse_diameter = static_cast<float>(1.0 / target.diameter());
+  const MeshTopology& target_topology = target.geodesics().topology();
+  for (int round = 0; round < options.anchor_refinement_rounds; ++round) {
+    control.check_cancelled();
+    std::vector<int> moved_to(e);
+    parallel_for(e, threads, [&](int a, int) {
+      const float* x = source_desc.row(source_vertex[a]);
+      float best = 0;
+      moved_to[a] = descend(target_topology, target_vertex[a], [&](int w) {
+        float sum = 0;
+        for (int b = 0; b < e; ++b)
+          if (b != a) sum += std::abs(x[b] - target_fields[b][w]);
+        return sum;
+      }, best);
+    });
+    std::vector<FastMarching::Workspace> workspaces(threads);
+    parallel_for(e, threads, [&](int a, int worker) {
+      if (moved_to[a] == target_vertex[a]) return;
+      auto& ws = workspaces[worker];
+      target.geodesics().compute({moved_to[a]}, ws);
+      refined_fields[a].resize(target_n);
+      for (int v = 0; v < target_n; ++v)
+        refined_fields[a][v] = ws.distance[v] == kUnreached ? 1.f : ws.distance[v] * inverse_diameter;
+    });
+    int moved = 0;
+    for (int a = 0; a < e; ++a)
+      if (moved_to[a] != target_vertex[a]) {
+        target_vertex[a] = moved_to[a];
+        target_fields[a] = refined_fields[a].data();
+        ++moved;
+      }
+    if (moved == 0) break;
+  }
+  const Descriptors target_desc = build_descriptors(target_n, target_fields);
+
+  std::vector<std::pair<int, int>> forward_seeds, reverse_seeds;
+  for (const SamplePair& p : pairs) {
+    forward_seeds.push_back({source.sample_vertex(p.source_sample), target.sample_vertex(p.target_sample)});
+    reverse_seeds.push_back({target.sample_vertex(p.target_sample), source.sample_vertex(p.source_sample)});
+  }
+  DenseMap dense;
+  match_direction(source, source_desc, target, target_desc, forward_seeds, threads, control,
+                  dense.forward, dense.forward_diso);
+  match_direction(target, target_desc, source, source_desc, reverse_seeds, threads, control,
+                  dense.reverse, dense.reverse_diso);
+  return dense;
+}
+
+}  // namespace isocorr

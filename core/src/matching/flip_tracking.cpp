@@ -1,0 +1,96 @@
+#include "isocorr/matching/flip_tracking.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "isocorr/matching/orientation.h"
+
+namespace isocorr {
+namespace {
+
+// d_iso(s, t | anchors): mean absolute difference of normalised geodesic distances.
+float pair_distortion(const PreprocessedShape& source, const PreprocessedShape& target,
+                      int source_vertex, int target_vertex, const std::vector<SamplePair>& anchors,
+                      size_t anchor_count) {
+  double sum = 0;
+  for (size_t a = 0; a < anchor_count; ++a)
+    sum += std::abs(source.field(anchors[a].source_sample, source_vertex) -
+                    target.field(anchors[a].target_sample, target_vertex));
+  return static_cast<float>(sum / std::max<size_t>(1, anchor_count));
+}
+
+}  // namespace
+
+double sample_map_diso(const PreprocessedShape& source, const PreprocessedShape& target,
+                       const std::vector<SamplePair>& pairs) {
+  if (pairs.size() < 2) return 0;
+  double total = 0;
+  for (size_t p = 0; p < pairs.size(); ++p) {
+    const int sv = source.sample_vertex(pairs[p].source_sample);
+    const int tv = target.sample_vertex(pairs[p].target_sample);
+    double sum = 0;
+    for (size_t q = 0; q < pairs.size(); ++q) {
+      if (q == p) continue;
+      sum += std::abs(source.field(pairs[q].source_sample, sv) -
+                      target.field(pairs[q].target_sample, tv));
+    }
+    total += sum / (pairs.size() - 1);
+  }
+  return total / pairs.size();
+}
+
+TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& target,
+                     const Level0Map& map, int rank, const TrackingOptions& options,
+                     const JobControl& control) {
+  TrackedMap tracked;
+  tracked.level0_rank = rank;
+  tracked.level0_diso = map.diso;
+  const int m = static_cast<int>(map.target_of.size());
+  std::vector<unsigned char> matched(source.num_samples(), 0);
+  for (int i = 0; i < m; ++i) {
+    tracked.pairs.push_back({i, map.target_of[i], 0.f});
+    matched[i] = 1;
+  }
+  const int levels = std::min(source.options().decision_level, target.options().decision_level);
+  const double r0 = source.options().level0_radius, shrink = source.options().level_shrink;
+  for (int level = 1; level <= levels; ++level) {
+    control.check_cancelled();
+    const std::vector<SamplePair> anchors = tracked.pairs;  // pairs of earlier levels
+    const size_t anchor_count = std::min(anchors.size(), static_cast<size_t>(options.anchor_cap));
+    std::vector<int> pool;
+    for (int j = 0; j < target.num_samples(); ++j)
+      if (target.sample_step(j) <= 2 * level + 1) pool.push_back(j);
+    const double radius = r0 * std::pow(shrink, level);
+
+    for (int s = 0; s < source.num_samples(); ++s) {
+      if (matched[s] || source.sample_step(s) > 2 * level) continue;
+      const int sv = source.sample_vertex(s);
+      // Parent: the nearest sample matched at an earlier level.
+      const SamplePair* parent = &anchors[0];
+      float parent_distance = std::numeric_limits<float>::max();
+      for (const SamplePair& a : anchors) {
+        const float d = source.field(a.source_sample, sv);
+        if (d < parent_distance) parent_distance = d, parent = &a;
+      }
+      const double window = options.window_factor * parent_distance + radius;
+      int best = -1;
+      float best_cost = std::numeric_limits<float>::max();
+      for (int pass = 0; pass < 2 && best < 0; ++pass) {
+        for (int j : pool) {
+          const int tv = target.sample_vertex(j);
+          if (pass == 0 && target.field(parent->target_sample, tv) > window) continue;
+          const float cost = pair_distortion(source, target, sv, tv, anchors, anchor_count);
+          if (cost < best_cost) best_cost = cost, best = j;
+        }
+      }
+      tracked.pairs.push_back({s, best, best_cost});
+      matched[s] = 1;
+    }
+  }
+  tracked.diso = sample_map_diso(source, target, tracked.pairs);
+  tracked.orientation = orientation_agreement(source, target, tracked.pairs);
+  return tracked;
+}
+
+}  // namespace isocorr

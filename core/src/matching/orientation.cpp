@@ -1,0 +1,84 @@
+#include "isocorr/matching/orientation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include <Eigen/Geometry>
+
+namespace isocorr {
+namespace {
+
+// Signed volume of the triangle (a, b, c) against normal n.
+double handedness(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& n) {
+  return (b - a).cross(c - a).dot(n);
+}
+
+constexpr int kSpreadCandidates = 5;
+
+}  // namespace
+
+double orientation_agreement(const PreprocessedShape& source, const PreprocessedShape& target,
+                             const std::vector<SamplePair>& pairs) {
+  const int count = static_cast<int>(pairs.size());
+  if (count < 3) return 0.5;
+  const auto& sp = source.mesh().vertices;
+  const auto& tp = target.mesh().vertices;
+  int agree = 0, total = 0;
+  std::vector<int> others(count);
+  for (int a = 0; a < count; ++a) {
+    const int sa = source.sample_vertex(pairs[a].source_sample);
+    others.resize(count);
+    std::iota(others.begin(), others.end(), 0);
+    others.erase(others.begin() + a);
+    const int nearest = std::min<int>(kSpreadCandidates + 1, static_cast<int>(others.size()));
+    std::partial_sort(others.begin(), others.begin() + nearest, others.end(), [&](int x, int y) {
+      const float dx = source.field(pairs[a].source_sample, source.sample_vertex(pairs[x].source_sample));
+      const float dy = source.field(pairs[a].source_sample, source.sample_vertex(pairs[y].source_sample));
+      return dx != dy ? dx < dy : x < y;
+    });
+    const int b = others[0];
+    const int sb = source.sample_vertex(pairs[b].source_sample);
+    const Vec3& n = source.normals()[sa];
+    // Pick the third corner that makes the best-spread triangle, so the sign is stable.
+    int c = -1;
+    double best_spread = 0;
+    for (int k = 1; k < nearest; ++k) {
+      const int sc = source.sample_vertex(pairs[others[k]].source_sample);
+      const Vec3 u = sp[sb] - sp[sa], w = sp[sc] - sp[sa];
+      const double spread = std::abs(handedness(sp[sa], sp[sb], sp[sc], n)) / (u.norm() * w.norm() + 1e-30);
+      if (spread > best_spread) best_spread = spread, c = others[k];
+    }
+    if (c < 0 || best_spread < 0.2) continue;
+    const int sc = source.sample_vertex(pairs[c].source_sample);
+    const int ta = target.sample_vertex(pairs[a].target_sample);
+    const int tb = target.sample_vertex(pairs[b].target_sample);
+    const int tc = target.sample_vertex(pairs[c].target_sample);
+    const double source_sign = handedness(sp[sa], sp[sb], sp[sc], n);
+    const double target_sign = handedness(tp[ta], tp[tb], tp[tc], target.normals()[ta]);
+    if (target_sign == 0) continue;
+    ++total;
+    if ((source_sign > 0) == (target_sign > 0)) ++agree;
+  }
+  return total ? static_cast<double>(agree) / total : 0.5;
+}
+
+double dense_orientation_agreement(const TriangleMesh& source, const std::vector<Vec3>& source_normals,
+                                   const TriangleMesh& target, const std::vector<Vec3>& target_normals,
+                                   const std::vector<int>& target_of) {
+  int agree = 0, total = 0;
+  for (const Face& f : source.faces) {
+    const int a = target_of[f[0]], b = target_of[f[1]], c = target_of[f[2]];
+    if (a == b || b == c || a == c) continue;
+    const Vec3 ns = source_normals[f[0]] + source_normals[f[1]] + source_normals[f[2]];
+    const Vec3 nt = target_normals[a] + target_normals[b] + target_normals[c];
+    const double s = handedness(source.vertices[f[0]], source.vertices[f[1]], source.vertices[f[2]], ns);
+    const double t = handedness(target.vertices[a], target.vertices[b], target.vertices[c], nt);
+    if (s == 0 || t == 0) continue;
+    ++total;
+    if ((s > 0) == (t > 0)) ++agree;
+  }
+  return total ? static_cast<double>(agree) / total : 0.5;
+}
+
+}  // namespace isocorr

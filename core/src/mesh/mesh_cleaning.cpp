@@ -1,0 +1,446 @@
+// Validation and repair of loaded meshes. Every step is sort-, union-find- or k-d-tree based
+// so that a 60K-vertex mesh is cleaned in milliseconds. Until the final compaction, vertices
+// keep their input numbering, so messages name vertices as the file does.
+#include "isocorr/mesh/mesh_cleaning.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numeric>
+#include <optional>
+#include <span>
+#include <sstream>
+
+#include <Eigen/Geometry>
+
+#include "isocorr/util/error.h"
+
+namespace isocorr {
+
+namespace {
+
+template <class... Parts>
+std::string cat(const Parts&... parts) {
+  std::ostringstream out;
+  (out << ... << parts);
+  return out.str();
+}
+
+std::string count_of(long long n, const char* singular, const char* plural) {
+  return cat(n, ' ', n == 1 ? singular : plural);
+}
+
+// Union-find whose root is always the smallest member, so that welded groups are
+// represented by their first input vertex.
+class DisjointSets {
+ public:
+  explicit DisjointSets(int size) : parent_(size) { std::iota(parent_.begin(), parent_.end(), 0); }
+  int find(int x) {
+    while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
+    return x;
+  }
+  void unite(int a, int b) {
+    a = find(a), b = find(b);
+    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+  }
+
+ private:
+  std::vector<int> parent_;
+};
+
+// Implicit k-d tree over some of the points: every index range is split at its median, along
+// x, y, z in turn with depth. Used for welding (radius queries) and nearest kept vertices.
+class PointTree {
+ public:
+  PointTree(const std::vector<Vec3>& points, std::vector<int> ids) : points_(points), ids_(std::move(ids)) {
+    build(0, ids_.size(), 0);
+  }
+
+  int nearest(const Vec3& query) const {
+    int best = -1;
+    double best_squared = std::numeric_limits<double>::infinity();
+    nearest(0, ids_.size(), 0, query, best, best_squared);
+    return best;
+  }
+
+  template <class Visit>
+  void within(const Vec3& query, double radius, const Visit& visit) const {
+    within(0, ids_.size(), 0, query, radius, visit);
+  }
+
+ private:
+  void build(size_t lo, size_t hi, int axis) {
+    if (hi - lo < 2) return;
+    const size_t mid = lo + (hi - lo) / 2;
+    std::nth_element(ids_.begin() + lo, ids_.begin() + mid, ids_.begin() + hi,
+                     [&](int a, int b) { return points_[a][axis] < points_[b][axis]; });
+    build(lo, mid, (axis + 1) % 3);
+    build(mid + 1, hi, (axis + 1) % 3);
+  }
+
+  void nearest(size_t lo, size_t hi, int axis, const Vec3& query, int& best, double& best_squared) const {
+    if (lo >= hi) return;
+    const size_t mid = lo + (hi - lo) / 2;
+    const Vec3& split = points_[ids_[mid]];
+    const double squared = (split - query).squaredNorm();
+    if (squared < best_squared) best_squared = squared, best = ids_[mid];
+    const double offset = query[axis] - split[axis];
+    const int next = (axis + 1) % 3;
+    // Near side first; the far side only if the splitting plane is closer than the best.
+    if (offset < 0) nearest(lo, mid, next, query, best, best_squared);
+    else nearest(mid + 1, hi, next, query, best, best_squared);
+    if (offset * offset < best_squared) {
+      if (offset < 0) nearest(mid + 1, hi, next, query, best, best_squared);
+      else nearest(lo, mid, next, query, best, best_squared);
+    }
+  }
+
+  template <class Visit>
+  void within(size_t lo, size_t hi, int axis, const Vec3& query, double radius, const Visit& visit) const {
+    if (lo >= hi) return;
+    const size_t mid = lo + (hi - lo) / 2;
+    const Vec3& split = points_[ids_[mid]];
+    if ((split - query).squaredNorm() <= radius * radius) visit(ids_[mid]);
+    const double offset = query[axis] - split[axis];
+    if (offset <= radius) within(lo, mid, (axis + 1) % 3, query, radius, visit);
+    if (offset >= -radius) within(mid + 1, hi, (axis + 1) % 3, query, radius, visit);
+  }
+
+  const std::vector<Vec3>& points_;
+  std::vector<int> ids_;
+};
+
+double bounding_diagonal(const std::vector<Vec3>& points) {
+  if (points.empty()) return 0.0;
+  Vec3 lo = points[0], hi = points[0];
+  for (const Vec3& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  return (hi - lo).norm();
+}
+
+void validate_input(const TriangleMesh& input) {
+  for (int v = 0; v < input.num_vertices(); ++v)
+    if (!input.vertices[v].allFinite()) throw InputError(cat("vertex ", v, " has a non-finite coordinate"));
+  for (int f = 0; f < input.num_faces(); ++f)
+    for (int v : input.faces[f])
+      if (v < 0 || v >= input.num_vertices())
+        throw InputError(
+            cat("face ", f, " refers to vertex ", v, " but the mesh has ", input.num_vertices(), " vertices"));
+  if (input.faces.empty()) throw InputError("the mesh has no faces");
+}
+
+bool is_degenerate(const std::vector<Vec3>& points, const Face& f) {
+  if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) return true;
+  const Vec3 e0 = points[f[1]] - points[f[0]], e1 = points[f[2]] - points[f[0]], e2 = points[f[2]] - points[f[1]];
+  const double longest_squared = std::max({e0.squaredNorm(), e1.squaredNorm(), e2.squaredNorm()});
+  // Collinear up to rounding: twice the area is negligible next to the longest edge squared.
+  return e0.cross(e1).norm() <= 1e-12 * longest_squared;
+}
+
+// Stable counting sort by a vertex index in [0, num_vertices): linear, so grouping edges and
+// faces by their vertices never costs a comparison sort.
+template <class Item, class Key>
+void sort_by_vertex(std::vector<Item>& items, int num_vertices, const Key& key) {
+  std::vector<int> start(num_vertices + 1, 0);
+  for (const Item& item : items) ++start[key(item) + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<Item> sorted(items.size());
+  for (const Item& item : items) sorted[start[key(item)]++] = item;
+  items.swap(sorted);
+}
+
+// One corner's edge of a face, keyed by its endpoints in increasing order.
+struct EdgeUse {
+  int low, high, face, corner;
+};
+
+// All edge uses, grouped by undirected edge and in face order within a group.
+std::vector<EdgeUse> sorted_edge_uses(const std::vector<Face>& faces, int num_vertices) {
+  std::vector<EdgeUse> uses;
+  uses.reserve(3 * faces.size());
+  for (int f = 0; f < static_cast<int>(faces.size()); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const auto [low, high] = std::minmax(faces[f][k], faces[f][(k + 1) % 3]);
+      uses.push_back({low, high, f, k});
+    }
+  sort_by_vertex(uses, num_vertices, [](const EdgeUse& u) { return u.high; });
+  sort_by_vertex(uses, num_vertices, [](const EdgeUse& u) { return u.low; });
+  return uses;
+}
+
+// End of the group of uses of the same edge as uses[begin].
+size_t edge_run_end(const std::vector<EdgeUse>& uses, size_t begin) {
+  size_t end = begin + 1;
+  while (end < uses.size() && uses[end].low == uses[begin].low && uses[end].high == uses[begin].high) ++end;
+  return end;
+}
+
+// Vertices that may be welded: unused ones and those on a boundary edge, where seams and
+// triangle soups leave copies. Coincident vertices inside closed fans are distinct points
+// where a surface touches itself (several FAUST remeshes have them); welding those would
+// create non-manifold edges.
+std::vector<int> open_vertices(const TriangleMesh& mesh) {
+  std::vector<bool> open(mesh.vertices.size(), true);
+  for (const Face& f : mesh.faces)
+    for (int v : f) open[v] = false;
+  const std::vector<EdgeUse> uses = sorted_edge_uses(mesh.faces, mesh.num_vertices());
+  for (size_t begin = 0, end = 0; begin < uses.size(); begin = end) {
+    end = edge_run_end(uses, begin);
+    if (end - begin == 1) open[uses[begin].low] = open[uses[begin].high] = true;
+  }
+  std::vector<int> ids;
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (open[v]) ids.push_back(v);
+  return ids;
+}
+
+// rep[v]: the smallest-numbered vertex within `tolerance` of v (transitively), among the
+// candidates; every other vertex represents itself.
+std::vector<int> weld_vertices(const std::vector<Vec3>& points, const std::vector<int>& candidates, double tolerance) {
+  const int count = static_cast<int>(points.size());
+  DisjointSets groups(count);
+  const PointTree tree(points, candidates);
+  for (int v : candidates) tree.within(points[v], tolerance, [&](int other) { groups.unite(v, other); });
+  std::vector<int> rep(count);
+  for (int v = 0; v < count; ++v) rep[v] = groups.find(v);
+  return rep;
+}
+
+// Faces across each edge (-1 on the boundary) and whether the neighbour runs the shared edge
+// in the same direction, i.e. disagrees in orientation.
+struct FaceAdjacency {
+  std::vector<std::array<int, 3>> neighbour;
+  std::vector<std::array<bool, 3>> same_direction;
+};
+
+FaceAdjacency build_adjacency(const std::vector<Face>& faces, int num_vertices) {
+  const std::vector<EdgeUse> uses = sorted_edge_uses(faces, num_vertices);
+  FaceAdjacency adjacency{std::vector<std::array<int, 3>>(faces.size(), {-1, -1, -1}),
+                          std::vector<std::array<bool, 3>>(faces.size(), {false, false, false})};
+  auto runs_forward = [&](const EdgeUse& u) { return faces[u.face][u.corner] < faces[u.face][(u.corner + 1) % 3]; };
+  for (size_t begin = 0, end = 0; begin < uses.size(); begin = end) {
+    end = edge_run_end(uses, begin);
+    if (end - begin > 2)
+      throw InputError(cat("non-manifold edge between vertices ", uses[begin].low, " and ", uses[begin].high,
+                           " (shared by ", end - begin,
+                           " faces); the engine needs a manifold surface"));
+    if (end - begin < 2) continue;
+    const EdgeUse &a = uses[begin], &b = uses[begin + 1];
+    const bool same = runs_forward(a) == runs_forward(b);
+    adjacency.neighbour[a.face][a.corner] = b.face, adjacency.same_direction[a.face][a.corner] = same;
+    adjacency.neighbour[b.face][b.corner] = a.face, adjacency.same_direction[b.face][b.corner] = same;
+  }
+  return adjacency;
+}
+
+void flip(Face& f) { std::swap(f[1], f[2]); }
+
+// Welded faces that are not degenerate (repeated corner or zero area).
+std::vector<Face> drop_degenerate_faces(const std::vector<Face>& input, const std::vector<Vec3>& points,
+                                        const std::vector<int>& rep, long long& dropped) {
+  std::vector<Face> faces;
+  faces.reserve(input.size());
+  for (const Face& f : input) {
+    const Face welded = {rep[f[0]], rep[f[1]], rep[f[2]]};
+    if (is_degenerate(points, welded)) ++dropped;
+    else faces.push_back(welded);
+  }
+  return faces;
+}
+
+// Drops later copies of a face with the same vertex set; returns how many.
+long long drop_duplicate_faces(std::vector<Face>& faces, int num_vertices) {
+  // Stably sorting the corner-sorted triples brings copies together, the first copy leading.
+  std::vector<std::pair<Face, int>> sorted(faces.size());
+  for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
+    sorted[f] = {faces[f], f};
+    std::sort(sorted[f].first.begin(), sorted[f].first.end());
+  }
+  for (int corner = 2; corner >= 0; --corner)
+    sort_by_vertex(sorted, num_vertices, [corner](const std::pair<Face, int>& s) { return s.first[corner]; });
+  std::vector<bool> duplicate(faces.size(), false);
+  for (size_t i = 1; i < sorted.size(); ++i) duplicate[sorted[i].second] = sorted[i].first == sorted[i - 1].first;
+  const size_t before = faces.size();
+  size_t kept = 0;
+  for (size_t f = 0; f < before; ++f)
+    if (!duplicate[f]) faces[kept++] = faces[f];
+  faces.resize(kept);
+  return static_cast<long long>(before - kept);
+}
+
+struct ComponentChoice {
+  int count = 0;            // connected components, through shared vertices
+  double kept_share = 1.0;  // fraction of the area in the one kept
+};
+
+ComponentChoice keep_largest_component(std::vector<Face>& faces, const std::vector<Vec3>& points, int num_vertices,
+                                       bool allowed) {
+  DisjointSets components(num_vertices);
+  for (const Face& f : faces) components.unite(f[0], f[1]), components.unite(f[0], f[2]);
+  std::vector<double> area(num_vertices, 0.0);  // indexed by component root
+  double total = 0.0;
+  for (const Face& f : faces) {
+    const double face_area = 0.5 * (points[f[1]] - points[f[0]]).cross(points[f[2]] - points[f[0]]).norm();
+    area[components.find(f[0])] += face_area;
+    total += face_area;
+  }
+  ComponentChoice choice;
+  std::vector<bool> counted(num_vertices, false);
+  int largest = -1;
+  for (const Face& f : faces) {
+    const int root = components.find(f[0]);
+    if (counted[root]) continue;
+    counted[root] = true;
+    ++choice.count;
+    if (largest < 0 || area[root] > area[largest]) largest = root;
+  }
+  if (choice.count <= 1) return choice;
+  if (!allowed) throw InputError(cat("the mesh has ", choice.count, " connected components; only one is allowed"));
+  choice.kept_share = total > 0 ? area[largest] / total : 1.0;
+  std::erase_if(faces, [&](const Face& f) { return components.find(f[0]) != largest; });
+  return choice;
+}
+
+// Edge-connected patches of faces, in breadth-first order.
+struct Patches {
+  std::vector<int> patch_of;  // per face
+  int count = 0;
+};
+
+// Flips faces to agree with the face they were reached from across a shared edge, then flips
+// back whichever side is the minority of its patch. Returns the faces changed.
+long long orient_consistently(std::vector<Face>& faces, int num_vertices, Patches& patches) {
+  const FaceAdjacency adjacency = build_adjacency(faces, num_vertices);
+  const int num_faces = static_cast<int>(faces.size());
+  patches.patch_of.assign(num_faces, -1);
+  std::vector<char> flipped(num_faces, 0);
+  std::vector<int> order;
+  order.reserve(num_faces);
+  long long changed = 0;
+  for (int seed = 0; seed < num_faces; ++seed) {
+    if (patches.patch_of[seed] >= 0) continue;
+    const size_t begin = order.size();
+    patches.patch_of[seed] = patches.count;
+    order.push_back(seed);
+    for (size_t next = begin; next < order.size(); ++next) {
+      const int f = order[next];
+      for (int k = 0; k < 3; ++k) {
+        const int g = adjacency.neighbour[f][k];
+        if (g < 0) continue;
+        const char wanted = flipped[f] ^ static_cast<char>(adjacency.same_direction[f][k]);
+        if (patches.patch_of[g] < 0) {
+          patches.patch_of[g] = patches.count, flipped[g] = wanted;
+          order.push_back(g);
+        } else if (flipped[g] != wanted) {
+          throw InputError(cat("the surface is non-orientable (like a Moebius strip): its faces cannot agree on an "
+                               "orientation around the edge between vertices ", faces[f][k], " and ",
+                               faces[f][(k + 1) % 3]));
+        }
+      }
+    }
+    const auto members = std::span(order).subspan(begin);
+    const long long count = std::count_if(members.begin(), members.end(), [&](int f) { return flipped[f] != 0; });
+    if (2 * count > static_cast<long long>(members.size()))
+      for (int f : members) flipped[f] ^= 1;
+    changed += std::min<long long>(count, members.size() - count);
+    ++patches.count;
+  }
+  for (int f = 0; f < num_faces; ++f)
+    if (flipped[f]) flip(faces[f]);
+  return changed;
+}
+
+// Flips every patch that encloses negative signed volume. Measured about the centroid (exact
+// for closed patches); near-zero volumes (flat open sheets) are left alone. Returns patches flipped.
+int orient_outward(std::vector<Face>& faces, const Patches& patches, const std::vector<Vec3>& points, double diagonal) {
+  Vec3 centroid = Vec3::Zero();
+  for (const Face& f : faces) centroid += points[f[0]] + points[f[1]] + points[f[2]];
+  centroid /= 3.0 * static_cast<double>(faces.size());
+  std::vector<double> volume(patches.count, 0.0);
+  for (size_t f = 0; f < faces.size(); ++f) {
+    const Vec3 a = points[faces[f][0]] - centroid, b = points[faces[f][1]] - centroid;
+    volume[patches.patch_of[f]] += a.dot(b.cross(points[faces[f][2]] - centroid)) / 6.0;
+  }
+  const double negligible = 1e-12 * std::pow(diagonal, 3);
+  for (size_t f = 0; f < faces.size(); ++f)
+    if (volume[patches.patch_of[f]] < -negligible) flip(faces[f]);
+  return static_cast<int>(std::count_if(volume.begin(), volume.end(), [&](double v) { return v < -negligible; }));
+}
+
+}  // namespace
+
+CleanMesh clean_mesh(const TriangleMesh& input, const CleaningOptions& options) {
+  validate_input(input);
+  const std::vector<Vec3>& points = input.vertices;
+  const int num_input = input.num_vertices();
+  CleanMesh result;
+  std::vector<std::string>& repairs = result.repairs;
+
+  // Until compaction, faces use input numbering with every welded group as its first vertex.
+  // Tolerances below double precision of the extent mean exact matching.
+  const double diagonal = bounding_diagonal(points);
+  double tolerance = options.weld_tolerance * diagonal;
+  if (!(tolerance > 1e-15 * diagonal)) tolerance = 0.0;
+  const std::vector<int> rep = weld_vertices(points, open_vertices(input), tolerance);
+  long long welded = 0;
+  for (int v = 0; v < num_input; ++v) welded += rep[v] != v;
+  if (welded > 0) repairs.push_back(cat("welded ", count_of(welded, "duplicate vertex", "duplicate vertices")));
+
+  long long degenerate = 0;
+  std::vector<Face> faces = drop_degenerate_faces(input.faces, points, rep, degenerate);
+  if (degenerate > 0)
+    repairs.push_back(cat("dropped ", count_of(degenerate, "degenerate face", "degenerate faces"),
+                          " (repeated corners or zero area)"));
+  if (const long long duplicates = drop_duplicate_faces(faces, num_input); duplicates > 0)
+    repairs.push_back(cat("dropped ", count_of(duplicates, "duplicate face", "duplicate faces")));
+  if (faces.empty()) throw InputError("no faces are left after dropping degenerate ones");
+  std::vector<bool> referenced(num_input, false);
+  for (const Face& f : faces)
+    for (int v : f) referenced[v] = true;
+
+  const ComponentChoice components = keep_largest_component(faces, points, num_input, options.keep_largest_component);
+  Patches patches;
+  if (const long long changed = orient_consistently(faces, num_input, patches); changed > 0)
+    repairs.push_back(cat("re-oriented ", count_of(changed, "face", "faces"), " to agree with their neighbours"));
+  if (const int turned = orient_outward(faces, patches, points, diagonal); turned == patches.count)
+    repairs.push_back("flipped all faces to point outward");
+  else if (turned > 0)
+    repairs.push_back(cat("flipped ", turned, " of ", patches.count, " surface patches to point outward"));
+
+  // Compact in input order; every other input vertex maps to its welded copy or the nearest kept vertex.
+  std::vector<int> clean_index(num_input, -1);
+  for (const Face& f : faces)
+    for (int v : f) clean_index[v] = 0;
+  for (int v = 0; v < num_input; ++v)
+    if (clean_index[v] == 0) {
+      clean_index[v] = result.mesh.num_vertices();
+      result.mesh.vertices.push_back(points[v]);
+      result.clean_to_input.push_back(v);
+    }
+  result.mesh.faces.reserve(faces.size());
+  for (const Face& f : faces) result.mesh.faces.push_back({clean_index[f[0]], clean_index[f[1]], clean_index[f[2]]});
+
+  std::optional<PointTree> kept_tree;  // built only when some vertex was dropped
+  result.input_to_clean.resize(num_input);
+  long long unreferenced = 0, outside = 0;
+  for (int v = 0; v < num_input; ++v) {
+    result.input_to_clean[v] = clean_index[rep[v]];
+    if (result.input_to_clean[v] >= 0) continue;
+    if (!kept_tree) kept_tree.emplace(points, result.clean_to_input);
+    result.input_to_clean[v] = clean_index[kept_tree->nearest(points[v])];
+    ++(referenced[rep[v]] ? outside : unreferenced);
+  }
+  if (unreferenced > 0)
+    repairs.push_back(cat("dropped ", count_of(unreferenced, "vertex", "vertices"),
+                          " used by no face; each maps to its nearest kept vertex"));
+  if (components.count > 1) {
+    char share[16];
+    std::snprintf(share, sizeof share, "%.1f%%", 100.0 * components.kept_share);
+    repairs.push_back(cat("kept the largest of ", components.count, " connected components (", share, " of the area); ",
+                          count_of(outside, "vertex", "vertices"),
+                          outside == 1 ? " outside it maps" : " outside it map", " to their nearest kept vertex"));
+  }
+  return result;
+}
+
+}  // namespace isocorr

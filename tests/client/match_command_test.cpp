@@ -1,0 +1,99 @@
+// The `isocorr` binary as a user runs it: exit codes, map files, report, bad input.
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CommandRun {
+  int exit_code = -1;
+  std::string output;
+};
+
+CommandRun run_command(const std::string& command) {
+  CommandRun result;
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) return result;
+  char buffer[4096];
+  while (fgets(buffer, sizeof buffer, pipe)) result.output += buffer;
+  const int status = pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+std::vector<int> read_lines(const fs::path& path) {
+  std::vector<int> values;
+  std::ifstream in(path);
+  for (int v; in >> v;) values.push_back(v);
+  return values;
+}
+
+class MatchCommand : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(fs::temp_directory_path() / ("isocorr_cli_test_" + std::to_string(getpid())));
+    fs::create_directories(*dir_);
+    ASSERT_EQ(run_command(std::string(ISOCORR_MAKE_EXAMPLES_PATH) + " " + dir_->string()).exit_code, 0);
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(*dir_);
+    delete dir_;
+  }
+  static fs::path* dir_;
+  const std::string cli_ = ISOCORR_CLI_PATH;
+};
+fs::path* MatchCommand::dir_ = nullptr;
+
+TEST_F(MatchCommand, WritesMapsAndReportThatEvalScores) {
+  const fs::path map = *dir_ / "out.map", reverse = *dir_ / "out.reverse.map", report = *dir_ / "report.json";
+  const CommandRun match = run_command(cli_ + " match " + (*dir_ / "meshes/creature.ply").string() + " " +
+                        (*dir_ / "meshes/creature_moved.ply").string() + " -o " + map.string() +
+                        " --reverse-out " + reverse.string() + " --report " + report.string());
+  ASSERT_EQ(match.exit_code, 0) << match.output;
+  const std::vector<int> forward = read_lines(map);
+  const std::vector<int> truth = read_lines(*dir_ / "gt/creature_to_moved.txt");
+  ASSERT_EQ(forward.size(), truth.size());
+  ASSERT_EQ(read_lines(reverse).size(), truth.size());
+  int exact = 0;
+  for (size_t i = 0; i < truth.size(); ++i) exact += forward[i] == truth[i];
+  EXPECT_GE(exact, 0.99 * truth.size());
+
+  std::ifstream in(report);
+  const nlohmann::json json = nlohmann::json::parse(in);
+  EXPECT_GT(json["timings_seconds"]["total"].get<double>(), 0);
+  EXPECT_FALSE(json["tracked"].empty());
+  EXPECT_LT(json["final"]["diso"].get<double>(), 0.01);
+
+  const CommandRun eval = run_command(cli_ + " eval " + map.string() + " --dataset " + dir_->string() +
+                       " --source meshes/creature.ply --target meshes/creature_moved.ply --json");
+  ASSERT_EQ(eval.exit_code, 0) << eval.output;
+  const nlohmann::json score = nlohmann::json::parse(eval.output.substr(eval.output.find('{')));
+  EXPECT_TRUE(score["flip_free"].get<bool>());
+  EXPECT_LT(score["d_grd"].get<double>(), 0.01);
+}
+
+TEST_F(MatchCommand, BadMeshIsExitCodeTwoWithAReason) {
+  const fs::path bad = *dir_ / "bad.off";
+  std::ofstream(bad) << "OFF\n3 1 0\n0 0 0\n1 0 0\nnan 1 0\n3 0 1 2\n";
+  const CommandRun match = run_command(cli_ + " match " + bad.string() + " " + bad.string() + " -o " + (*dir_ / "x.map").string());
+  EXPECT_EQ(match.exit_code, 2);
+  EXPECT_NE(match.output.find("bad.off"), std::string::npos) << match.output;
+}
+
+TEST_F(MatchCommand, HelpListsTheSettings) {
+  const CommandRun help = run_command(cli_ + " match --help");
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.output.find("--level0-samples"), std::string::npos);
+  EXPECT_NE(help.output.find("--selection"), std::string::npos);
+  EXPECT_EQ(run_command(cli_ + " frobnicate").exit_code, 2);
+}
+
+}  // namespace

@@ -1,0 +1,95 @@
+// The whole engine on a shape with a known answer: an asymmetric mesh against a rotated,
+// scaled, renumbered copy of itself must give the permutation back.
+#include "isocorr/matching/matcher.h"
+
+#include <atomic>
+
+#include <gtest/gtest.h>
+
+#include "isocorr/mesh/procedural_meshes.h"
+
+namespace isocorr {
+namespace {
+
+class MatcherOnBlob : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    blob_ = new TriangleMesh(limbed_blob(4));
+    copy_ = new RenumberedCopy(rotated_scaled_renumbered(*blob_, 2.5, 11));
+  }
+  static void TearDownTestSuite() {
+    delete blob_;
+    delete copy_;
+  }
+  static TriangleMesh* blob_;
+  static RenumberedCopy* copy_;
+};
+TriangleMesh* MatcherOnBlob::blob_ = nullptr;
+RenumberedCopy* MatcherOnBlob::copy_ = nullptr;
+
+TEST_F(MatcherOnBlob, RecoversThePermutation) {
+  MatchSettings settings;
+  settings.threads = 2;
+  const MatchResult result = match_meshes(*blob_, copy_->mesh, settings);
+  ASSERT_EQ(result.forward.size(), blob_->vertices.size());
+  ASSERT_EQ(result.reverse.size(), blob_->vertices.size());
+
+  const MeshTopology topology(copy_->mesh);
+  int exact = 0, within_ring = 0;
+  for (size_t v = 0; v < result.forward.size(); ++v) {
+    const int truth = copy_->permutation[v];
+    const int got = result.forward[v];
+    if (got == truth) {
+      ++exact;
+      continue;
+    }
+    for (const int* w = topology.neighbours_begin(truth); w != topology.neighbours_end(truth); ++w)
+      if (*w == got) ++within_ring;
+  }
+  const int n = static_cast<int>(result.forward.size());
+  EXPECT_GE(exact, 0.99 * n) << "exact " << exact << " of " << n;
+  EXPECT_EQ(exact + within_ring, n);
+  EXPECT_GT(result.dense_orientation, 0.9);
+
+  // The reverse map is the inverse permutation on the same terms.
+  int reverse_exact = 0;
+  for (size_t v = 0; v < result.forward.size(); ++v) reverse_exact += result.reverse[copy_->permutation[v]] == static_cast<int>(v);
+  EXPECT_GE(reverse_exact, 0.99 * n);
+}
+
+TEST_F(MatcherOnBlob, ResultDoesNotDependOnThreadCount) {
+  MatchSettings one, two;
+  one.threads = 1;
+  two.threads = 2;
+  const MatchResult a = match_meshes(*blob_, copy_->mesh, one);
+  const MatchResult b = match_meshes(*blob_, copy_->mesh, two);
+  EXPECT_EQ(a.forward, b.forward);
+  EXPECT_EQ(a.reverse, b.reverse);
+  EXPECT_EQ(a.chosen, b.chosen);
+}
+
+TEST_F(MatcherOnBlob, ReportsProgressAndHonoursCancellation) {
+  std::atomic<bool> cancel{false};
+  JobControl control;
+  int reports = 0;
+  control.on_progress = [&](const Progress& p) {
+    ++reports;
+    if (p.stage == "tracking") cancel = true;
+  };
+  control.cancel_requested = &cancel;
+  EXPECT_THROW(match_meshes(*blob_, copy_->mesh, MatchSettings{}, control), Cancelled);
+  EXPECT_GT(reports, 2);
+}
+
+TEST(MatcherSettings, OutOfRangeSettingsAreInputErrors) {
+  MatchSettings settings;
+  settings.level0_samples = 2;
+  EXPECT_THROW(settings.validate(), InputError);
+  settings = MatchSettings{};
+  settings.level0_samples = 9;
+  settings.level0_extra_targets = 2;
+  EXPECT_THROW(settings.validate(), InputError);
+}
+
+}  // namespace
+}  // namespace isocorr

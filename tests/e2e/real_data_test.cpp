@@ -1,0 +1,57 @@
+// End to end on real benchmark pairs from ../shared/data: the whole engine, scored
+// against ground truth the way the benchmark scores it.
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "isocorr/eval/ground_truth.h"
+#include "isocorr/eval/metrics.h"
+#include "isocorr/geodesic/geodesic_diameter.h"
+#include "isocorr/matching/matcher.h"
+#include "isocorr/mesh/mesh_io.h"
+
+#ifndef ISOCORR_SHARED_DATA_DIR
+#define ISOCORR_SHARED_DATA_DIR "../shared/data"
+#endif
+
+namespace isocorr {
+namespace {
+
+GroundTruthScore match_and_score(const std::string& dataset, const std::string& source, const std::string& target) {
+  const std::string dir = std::string(ISOCORR_SHARED_DATA_DIR) + "/" + dataset;
+  BenchmarkPair pair;
+  for (const auto& listed : read_pairs_tsv(dir))
+    if (listed.source_path == dir + "/" + source && listed.target_path == dir + "/" + target) pair = listed;
+  EXPECT_FALSE(pair.gt_kind.empty()) << "pair not listed in " << dir << "/pairs.tsv";
+  const LoadedMesh s = load_mesh(pair.source_path), t = load_mesh(pair.target_path);
+  const MatchResult result = match_meshes(s.mesh, t.mesh, MatchSettings{});
+  const GroundTruth truth = load_ground_truth(dir, pair, s.mesh.num_vertices(), t.mesh.num_vertices());
+  const MeshTopology topology(t.mesh);
+  const FastMarching geodesics(t.mesh, topology);
+  return score_against_ground_truth(t.mesh, geodesics, estimate_geodesic_diameter(geodesics), result.forward,
+                                    truth, EvaluationOptions{});
+}
+
+class RealData : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!std::filesystem::exists(ISOCORR_SHARED_DATA_DIR))
+      GTEST_SKIP() << "benchmark data not found at " << ISOCORR_SHARED_DATA_DIR
+                   << " (it sits beside the repository as ../shared/data)";
+  }
+};
+
+TEST_F(RealData, ToscaWolfIsFlipFreeAndAccurate) {
+  const GroundTruthScore score = match_and_score("tosca_hires", "off/wolf0.off", "off/wolf1.off");
+  EXPECT_TRUE(score.flip_free) << score.flip_rule << "; mirrored " << score.mirrored_fraction;
+  EXPECT_LT(score.mean_error, 0.035);
+}
+
+TEST_F(RealData, FaustPairIsFlipFreeAndAccurate) {
+  const GroundTruthScore score = match_and_score("faust_reg6890", "off/tr_reg_000.off", "off/tr_reg_001.off");
+  EXPECT_TRUE(score.flip_free) << score.flip_rule << "; far " << score.far_fraction;
+  EXPECT_LT(score.mean_error, 0.035);
+}
+
+}  // namespace
+}  // namespace isocorr

@@ -1,0 +1,223 @@
+// isocorr-bench: runs the pairs.tsv lists of the benchmark datasets and prints, per
+// dataset, flip-free %, D_grd, d_grd-dagger, Kim AUC, D_iso, seconds and peak memory per
+// pair, for both selection rules (orientation, the default, and the paper's least D_iso),
+// then how the time grows with the vertex count.
+//
+// Each pair runs in a forked child so that its peak memory is its own.
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
+
+#include "isocorr/eval/ground_truth.h"
+#include "isocorr/eval/metrics.h"
+#include "isocorr/geodesic/geodesic_diameter.h"
+#include "isocorr/matching/matcher.h"
+#include "isocorr/mesh/mesh_io.h"
+#include "settings_flags.h"
+
+namespace {
+
+using namespace isocorr;
+
+struct RuleOutcome {
+  double d_grd = 0, d_grd_max = 0, kim_auc = 0, diso = 0, mirrored = -1;
+  int flip_free = 0, tracked = 0, chosen_rank = 0;
+};
+
+struct PairOutcome {
+  bool ok = false;
+  int vertices = 0;
+  double seconds = 0, peak_mb = 0;
+  RuleOutcome by_orientation, by_diso;
+  std::string error;
+};
+
+RuleOutcome score(const MatchResult& result, const TriangleMesh& target, const FastMarching& geodesics,
+                  double diameter, const GroundTruth& truth, int points) {
+  EvaluationOptions options;
+  options.max_points = points;
+  const GroundTruthScore s = score_against_ground_truth(target, geodesics, diameter, result.forward, truth, options);
+  RuleOutcome out;
+  out.d_grd = s.mean_error;
+  out.d_grd_max = s.max_error;
+  out.kim_auc = s.kim_auc;
+  out.diso = result.diso;
+  out.mirrored = s.mirrored_fraction;
+  out.flip_free = s.flip_free;
+  out.tracked = static_cast<int>(result.tracked.size());
+  out.chosen_rank = result.tracked[result.chosen].level0_rank;
+  return out;
+}
+
+// Runs in the child: the whole job as a user would run it, then scoring (not timed).
+PairOutcome run_pair(const std::string& dataset, const BenchmarkPair& pair, MatchSettings settings, int points) {
+  PairOutcome outcome;
+  const auto start = std::chrono::steady_clock::now();
+  const LoadedMesh source = load_mesh(pair.source_path);
+  const LoadedMesh target = load_mesh(pair.target_path);
+  PreprocessOptions options = settings.preprocess;
+  options.threads = settings.threads;
+  const auto source_shape = PreprocessedShape::build(source.mesh, options);
+  const auto target_shape = PreprocessedShape::build(target.mesh, options);
+  settings.selection = SelectionRule::kOrientationThenDistortion;
+  const MatchResult by_orientation = match_shapes(*source_shape, *target_shape, settings);
+  outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  settings.selection = SelectionRule::kLeastDistortion;
+  const MatchResult by_diso = match_shapes(*source_shape, *target_shape, settings);
+
+  const GroundTruth truth = load_ground_truth(dataset, pair, source.mesh.num_vertices(), target.mesh.num_vertices());
+  const MeshTopology topology(target.mesh);
+  const FastMarching geodesics(target.mesh, topology);
+  const double diameter = estimate_geodesic_diameter(geodesics);
+  outcome.by_orientation = score(by_orientation, target.mesh, geodesics, diameter, truth, points);
+  outcome.by_diso = score(by_diso, target.mesh, geodesics, diameter, truth, points);
+  outcome.vertices = source.mesh.num_vertices();
+  outcome.ok = true;
+  return outcome;
+}
+
+std::string serialise(const PairOutcome& o) {
+  std::ostringstream out;
+  out.precision(9);
+  out << o.ok << ' ' << o.vertices << ' ' << o.seconds;
+  for (const RuleOutcome* r : {&o.by_orientation, &o.by_diso})
+    out << ' ' << r->d_grd << ' ' << r->d_grd_max << ' ' << r->kim_auc << ' ' << r->diso << ' ' << r->mirrored
+        << ' ' << r->flip_free << ' ' << r->tracked << ' ' << r->chosen_rank;
+  out << ' ' << o.error;
+  return out.str();
+}
+
+PairOutcome deserialise(const std::string& line) {
+  std::istringstream in(line);
+  PairOutcome o;
+  in >> o.ok >> o.vertices >> o.seconds;
+  for (RuleOutcome* r : {&o.by_orientation, &o.by_diso})
+    in >> r->d_grd >> r->d_grd_max >> r->kim_auc >> r->diso >> r->mirrored >> r->flip_free >> r->tracked >>
+        r->chosen_rank;
+  std::getline(in >> std::ws, o.error);
+  return o;
+}
+
+PairOutcome run_in_child(const std::string& dataset, const BenchmarkPair& pair, const MatchSettings& settings,
+                         int points) {
+  int fds[2];
+  if (pipe(fds) != 0) return {false, 0, 0, 0, {}, {}, "pipe failed"};
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fds[0]);
+    PairOutcome outcome;
+    try {
+      outcome = run_pair(dataset, pair, settings, points);
+    } catch (const std::exception& e) {
+      outcome.error = e.what();
+    }
+    const std::string line = serialise(outcome) + "\n";
+    if (write(fds[1], line.data(), line.size()) < 0) _exit(2);
+    _exit(0);
+  }
+  close(fds[1]);
+  std::string line;
+  char buffer[4096];
+  for (ssize_t got; (got = read(fds[0], buffer, sizeof buffer)) > 0;) line.append(buffer, got);
+  close(fds[0]);
+  int status = 0;
+  struct rusage usage {};
+  wait4(pid, &status, 0, &usage);
+  PairOutcome outcome = line.empty() ? PairOutcome{false, 0, 0, 0, {}, {}, "child died"} : deserialise(line);
+  outcome.peak_mb = usage.ru_maxrss / 1024.0;
+  return outcome;
+}
+
+void print_rule_row(const char* rule, const std::vector<PairOutcome>& outcomes, bool orientation) {
+  int ok = 0, flip_free = 0;
+  double d_grd = 0, d_max = 0, auc = 0, diso = 0;
+  for (const auto& o : outcomes) {
+    if (!o.ok) continue;
+    const RuleOutcome& r = orientation ? o.by_orientation : o.by_diso;
+    ++ok;
+    auc += r.kim_auc;
+    diso += r.diso;
+    if (r.flip_free) ++flip_free, d_grd += r.d_grd, d_max += r.d_grd_max;
+  }
+  if (!ok) return;
+  std::printf("  %-12s flip-free %3d/%-3d (%5.1f%%)  D_grd(flip-free) %.4f  d_grd-dagger %.4f  Kim AUC %.3f  D_iso %.4f\n",
+              rule, flip_free, ok, 100.0 * flip_free / ok, flip_free ? d_grd / flip_free : NAN,
+              flip_free ? d_max / flip_free : NAN, auc / ok, diso / ok);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"isocorr-bench: accuracy and speed on the benchmark datasets' pairs.tsv lists"};
+  std::vector<std::string> datasets;
+  std::string data_root = "../shared/data", selection = "orientation", protocol;
+  int limit = 0, points = 1000;
+  MatchSettings settings;
+  app.add_option("datasets", datasets, "dataset folders under --data (default: tosca_hires faust_reg6890 scape)");
+  app.add_option("--data", data_root, "root of the benchmark data")->capture_default_str();
+  app.add_option("--limit", limit, "at most this many pairs per dataset (0 = all)")->capture_default_str();
+  app.add_option("--protocol", protocol, "only pairs whose protocol column contains this");
+  app.add_option("--points", points, "ground-truth points scored per pair")->capture_default_str();
+  isocorr::cli::add_match_settings_flags(app, settings, selection);
+  CLI11_PARSE(app, argc, argv);
+  if (datasets.empty()) datasets = {"tosca_hires", "faust_reg6890", "scape"};
+
+  std::printf("flip-free rule: mean error < 0.1 of the diameter and at most 5%% of points nearer their mirror image "
+              "(with symmetry GT), else at most 5%% of points off by more than 0.2\n");
+  std::vector<std::pair<int, double>> scaling;
+  for (const auto& name : datasets) {
+    const std::string dir = data_root + "/" + name;
+    if (!std::filesystem::exists(dir + "/pairs.tsv")) {
+      std::printf("%s: no pairs.tsv under %s, skipped\n", name.c_str(), dir.c_str());
+      continue;
+    }
+    std::vector<PairOutcome> outcomes;
+    int taken = 0;
+    for (const auto& pair : read_pairs_tsv(dir)) {
+      if (!protocol.empty() && pair.protocol.find(protocol) == std::string::npos) continue;
+      if (limit > 0 && taken >= limit) break;
+      ++taken;
+      const PairOutcome o = run_in_child(dir, pair, settings, points);
+      const auto stem = [](const std::string& p) { return std::filesystem::path(p).stem().string(); };
+      if (o.ok) {
+        std::printf("%-14s %-12s -> %-12s V=%6d %7.2f s %6.0f MB | orient: %s D_grd %.4f chose #%d of %d | "
+                    "least-diso: %s D_grd %.4f chose #%d\n",
+                    name.c_str(), stem(pair.source_path).c_str(), stem(pair.target_path).c_str(), o.vertices,
+                    o.seconds, o.peak_mb, o.by_orientation.flip_free ? "ok  " : "FLIP", o.by_orientation.d_grd,
+                    o.by_orientation.chosen_rank + 1, o.by_orientation.tracked, o.by_diso.flip_free ? "ok  " : "FLIP",
+                    o.by_diso.d_grd, o.by_diso.chosen_rank + 1);
+        scaling.push_back({o.vertices, o.seconds});
+      } else {
+        std::printf("%-14s %-12s -> %-12s FAILED: %s\n", name.c_str(), stem(pair.source_path).c_str(),
+                    stem(pair.target_path).c_str(), o.error.c_str());
+      }
+      std::fflush(stdout);
+      outcomes.push_back(o);
+    }
+    double seconds = 0, peak = 0;
+    int ok = 0;
+    for (const auto& o : outcomes)
+      if (o.ok) ++ok, seconds += o.seconds, peak = std::max(peak, o.peak_mb);
+    std::printf("== %s: %d pairs, %.2f s per pair, peak %.0f MB\n", name.c_str(), ok, ok ? seconds / ok : 0.0, peak);
+    print_rule_row("orientation", outcomes, true);
+    print_rule_row("least-diso", outcomes, false);
+  }
+  // Growth with size: seconds / (V log V) should stay flat if cost grows like V log V.
+  std::map<int, std::pair<double, int>> by_size;
+  for (auto [v, s] : scaling) by_size[v].first += s, by_size[v].second++;
+  std::printf("== scaling (mean seconds per pair by vertex count)\n");
+  for (auto& [v, acc] : by_size) {
+    const double s = acc.first / acc.second;
+    std::printf("  V=%6d  %7.2f s  %.3f us per V log2 V\n", v, s, 1e6 * s / (v * std::log2(v)));
+  }
+  return 0;
+}
