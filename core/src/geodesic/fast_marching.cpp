@@ -16,21 +16,23 @@ using MinHeap = std::priority_queue<HeapEntry, std::vector<HeapEntry>, std::grea
 }  // namespace
 
 FastMarching::FastMarching(const TriangleMesh& mesh, const MeshTopology& topology)
-    : mesh_(mesh), topology_(topology) {}
+    : mesh_(mesh), topology_(topology), corners_(3 * mesh.faces.size()) {
+  for (size_t f = 0; f < mesh.faces.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& c = mesh.vertices[mesh.faces[f][k]];
+      const Vec3 e_next = mesh.vertices[mesh.faces[f][(k + 1) % 3]] - c;
+      const Vec3 e_prev = mesh.vertices[mesh.faces[f][(k + 2) % 3]] - c;
+      corners_[3 * f + k] = {e_next.norm(), e_prev.norm(), e_next.dot(e_prev)};
+    }
+}
 
-// Solves for the distance at `target` given final distances at the triangle's other two
-// corners: the planar front d(x) = d_target + g.(x - target) with |g| = 1 that matches
+// Solves for the distance at corner `corner` of `face` given final distances at the next
+// and previous corners: the planar front d(x) = d_c + g.(x - c) with |g| = 1 that matches
 // both known corners. Accepted only if the front arrives from inside the triangle.
-float FastMarching::update_from_triangle(int target, int a, int b,
-                                         const std::vector<float>& d) const {
-  const Vec3& c = mesh_.vertices[target];
-  const Vec3 e1 = mesh_.vertices[a] - c;
-  const Vec3 e2 = mesh_.vertices[b] - c;
-  const double da = d[a], db = d[b];
-  const double edge_a = e1.norm(), edge_b = e2.norm();
-  double best = std::min(da + edge_a, db + edge_b);
-
-  const double g11 = e1.dot(e1), g12 = e1.dot(e2), g22 = e2.dot(e2);
+float FastMarching::update_from_triangle(int face, int corner, double da, double db) const {
+  const CornerGeometry& g = corners_[3 * face + corner];
+  double best = std::min(da + g.edge_next, db + g.edge_prev);
+  const double g11 = g.edge_next * g.edge_next, g12 = g.dot, g22 = g.edge_prev * g.edge_prev;
   const double det = g11 * g22 - g12 * g12;
   if (det <= 1e-20 * g11 * g22) return static_cast<float>(best);
   // Q = inverse Gram matrix.
@@ -88,13 +90,14 @@ void FastMarching::compute(const std::vector<int>& sources, Workspace& ws, float
       for (int k = 0; k < 3; ++k) {
         const int target = face[k];
         if (ws.state[target] == kFinal) continue;
-        const int a = face[(k + 1) % 3], b = face[(k + 2) % 3];
-        const int other = (a == v) ? b : a;
+        const int next = face[(k + 1) % 3], prev = face[(k + 2) % 3];
+        const int other = (next == v) ? prev : next;
         float candidate;
         if (ws.state[other] == kFinal) {
-          candidate = update_from_triangle(target, v, other, d);
+          candidate = update_from_triangle(*f, k, d[next], d[prev]);
         } else {
-          candidate = d[v] + static_cast<float>((mesh_.vertices[target] - mesh_.vertices[v]).norm());
+          const CornerGeometry& g = corners_[3 * *f + k];
+          candidate = d[v] + static_cast<float>(next == v ? g.edge_next : g.edge_prev);
         }
         if (candidate < d[target]) {
           if (ws.state[target] == kFar) {

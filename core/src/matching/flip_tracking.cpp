@@ -20,6 +20,36 @@ float pair_distortion(const PreprocessedShape& source, const PreprocessedShape& 
   return static_cast<float>(sum / std::max<size_t>(1, anchor_count));
 }
 
+// Level-0 samples are only roughly aligned on the two shapes (each mesh is sampled on its
+// own), and an early pair that is off by a sample spacing biases every later choice. After
+// each level every pair is therefore re-chosen near its current image against all the
+// other pairs (leave-one-out), which moves such anchors to where the later ones agree.
+void reassign_pairs(const PreprocessedShape& source, const PreprocessedShape& target,
+                    const std::vector<int>& pool, double radius, const TrackingOptions& options,
+                    std::vector<SamplePair>& pairs) {
+  const std::vector<SamplePair> anchors = pairs;
+  const size_t anchor_count = std::min(anchors.size(), static_cast<size_t>(options.anchor_cap));
+  for (size_t p = 0; p < pairs.size(); ++p) {
+    const int sv = source.sample_vertex(pairs[p].source_sample);
+    const int current = pairs[p].target_sample;
+    int best = current;
+    float best_cost = std::numeric_limits<float>::max();
+    for (int j : pool) {
+      const int tv = target.sample_vertex(j);
+      if (target.field(current, tv) > radius) continue;
+      double sum = 0;
+      for (size_t a = 0; a < anchor_count; ++a) {
+        if (a == p) continue;
+        sum += std::abs(source.field(anchors[a].source_sample, sv) - target.field(anchors[a].target_sample, tv));
+      }
+      const float cost = static_cast<float>(sum / std::max<size_t>(1, anchor_count - (p < anchor_count)));
+      if (cost < best_cost) best_cost = cost, best = j;
+    }
+    pairs[p].target_sample = best;
+    pairs[p].diso = best_cost;
+  }
+}
+
 }  // namespace
 
 double sample_map_diso(const PreprocessedShape& source, const PreprocessedShape& target,
@@ -87,6 +117,7 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
       tracked.pairs.push_back({s, best, best_cost});
       matched[s] = 1;
     }
+    reassign_pairs(source, target, pool, radius, options, tracked.pairs);
   }
   tracked.diso = sample_map_diso(source, target, tracked.pairs);
   tracked.orientation = orientation_agreement(source, target, tracked.pairs);

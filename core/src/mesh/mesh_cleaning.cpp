@@ -7,10 +7,12 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <numbers>
 #include <numeric>
 #include <optional>
 #include <span>
 #include <sstream>
+#include <tuple>
 
 #include <Eigen/Geometry>
 
@@ -268,6 +270,83 @@ long long drop_duplicate_faces(std::vector<Face>& faces, int num_vertices) {
   return static_cast<long long>(before - kept);
 }
 
+struct NonManifoldRepair {
+  long long edges = 0;  // edges that had more than two faces
+  long long faces = 0;  // faces dropped
+};
+
+// Keeps two faces on every edge shared by more than two: the pair that best continues the
+// surface, i.e. whose unit normals agree best once the two are oriented consistently (run
+// the edge in opposite directions). With the edge as axis, each face is a half-plane leaving
+// it along d (the unit direction from the edge to its third corner, perpendicular to the
+// edge); for such a pair the normals are e x d1 and -e x d2, whose dot product is -d1.d2.
+// So the kept pair is the one whose half-planes are closest to opposite (dihedral angle
+// closest to 180 degrees): a stray fin on a surface is dropped, of two crossing sheets one
+// is kept whole. The input winding is ignored, orientation is fixed afterwards.
+//
+// One pass suffices: dropping faces only ever lowers the face count of other edges, so an
+// edge visited with at most two faces left never gets more, and each visit considers only
+// the faces not dropped yet. Per edge with k faces the best pair is found in O(k log k): the
+// half-planes sorted by angle about the edge, the one most nearly opposite to each is a
+// neighbour of its angle + 180 degrees. Faces keep their order; vertices, components and
+// patches the dropping leaves behind are handled by the steps after this one.
+NonManifoldRepair repair_non_manifold_edges(std::vector<Face>& faces, const std::vector<Vec3>& points,
+                                            int num_vertices) {
+  const std::vector<EdgeUse> uses = sorted_edge_uses(faces, num_vertices);
+  std::vector<char> dropped(faces.size(), 0);
+  NonManifoldRepair repair;
+  struct HalfPlane {
+    double angle;     // about the edge, in [-pi, pi]
+    int face;
+    Vec3 direction;   // unit, perpendicular to the edge, towards the third corner
+  };
+  std::vector<HalfPlane> fins;
+  for (size_t begin = 0, end = 0; begin < uses.size(); begin = end) {
+    end = edge_run_end(uses, begin);
+    if (end - begin <= 2) continue;
+    ++repair.edges;
+    const Vec3& origin = points[uses[begin].low];
+    const Vec3 axis = (points[uses[begin].high] - origin).normalized();
+    const Vec3 u = axis.unitOrthogonal(), v = axis.cross(u);
+    fins.clear();
+    for (size_t i = begin; i < end; ++i) {
+      if (dropped[uses[i].face]) continue;
+      const Vec3& apex = points[faces[uses[i].face][(uses[i].corner + 2) % 3]];
+      Vec3 d = apex - origin;
+      d = (d - d.dot(axis) * axis).normalized();  // non-zero: degenerate faces are gone
+      fins.push_back({std::atan2(d.dot(v), d.dot(u)), uses[i].face, d});
+    }
+    const int k = static_cast<int>(fins.size());
+    if (k <= 2) continue;
+    std::sort(fins.begin(), fins.end(),
+              [](const HalfPlane& a, const HalfPlane& b) { return std::tie(a.angle, a.face) < std::tie(b.angle, b.face); });
+    int best_a = -1, best_b = -1;
+    double best_agreement = -std::numeric_limits<double>::infinity();
+    for (int i = 0; i < k; ++i) {
+      double opposite = fins[i].angle + std::numbers::pi;
+      if (opposite > std::numbers::pi) opposite -= 2 * std::numbers::pi;
+      const int at = static_cast<int>(
+          std::lower_bound(fins.begin(), fins.end(), opposite,
+                           [](const HalfPlane& fin, double angle) { return fin.angle < angle; }) -
+          fins.begin());
+      for (const int j : {at % k, (at + k - 1) % k}) {
+        if (j == i) continue;
+        const double agreement = -fins[i].direction.dot(fins[j].direction);
+        if (agreement > best_agreement) best_agreement = agreement, best_a = i, best_b = j;
+      }
+    }
+    for (int i = 0; i < k; ++i)
+      if (i != best_a && i != best_b) dropped[fins[i].face] = 1, ++repair.faces;
+  }
+  if (repair.faces > 0) {
+    size_t kept = 0;
+    for (size_t f = 0; f < faces.size(); ++f)
+      if (!dropped[f]) faces[kept++] = faces[f];
+    faces.resize(kept);
+  }
+  return repair;
+}
+
 struct ComponentChoice {
   int count = 0;            // connected components, through shared vertices
   double kept_share = 1.0;  // fraction of the area in the one kept
@@ -394,6 +473,17 @@ CleanMesh clean_mesh(const TriangleMesh& input, const CleaningOptions& options) 
   if (const long long duplicates = drop_duplicate_faces(faces, num_input); duplicates > 0)
     repairs.push_back(cat("dropped ", count_of(duplicates, "duplicate face", "duplicate faces")));
   if (faces.empty()) throw InputError("no faces are left after dropping degenerate ones");
+  // Before `referenced`, components and orientation: vertices only the dropped faces used
+  // are then reported and mapped like any unused vertex, split-off pieces go with the
+  // smaller components, and the adjacency below sees at most two faces per edge.
+  // Non-manifold vertices (fans meeting only at a vertex) need no repair: orientation
+  // spreads across edges only, components join through vertices, and MeshTopology and the
+  // engine use one-rings as unordered lists, never walking around a vertex fan by fan.
+  if (options.repair_non_manifold_edges)
+    if (const NonManifoldRepair repaired = repair_non_manifold_edges(faces, points, num_input); repaired.faces > 0)
+      repairs.push_back(cat("dropped ", count_of(repaired.faces, "face", "faces"), " on ",
+                            count_of(repaired.edges, "non-manifold edge", "non-manifold edges"),
+                            " (more than two faces per edge)"));
   std::vector<bool> referenced(num_input, false);
   for (const Face& f : faces)
     for (int v : f) referenced[v] = true;

@@ -47,10 +47,16 @@ class FastMarching {
   const MeshTopology& topology() const { return topology_; }
 
  private:
-  float update_from_triangle(int target, int a, int b, const std::vector<float>& d) const;
+  // Per face corner: lengths of the edges to the next and previous corner and their dot
+  // product, precomputed because every update in the inner loop needs them.
+  struct CornerGeometry {
+    double edge_next, edge_prev, dot;
+  };
+  float update_from_triangle(int face, int corner, double d_next, double d_prev) const;
 
   const TriangleMesh& mesh_;
   const MeshTopology& topology_;
+  std::vector<CornerGeometry> corners_;  // 3 per face
 };
 
 }  // namespace isocorr

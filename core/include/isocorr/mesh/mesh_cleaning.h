@@ -16,6 +16,11 @@ struct CleaningOptions {
   // Keep only the largest connected component (by area); other vertices are mapped to
   // their nearest kept vertex. When false, several components are an InputError.
   bool keep_largest_component = true;
+  // Repair edges shared by more than two faces by keeping, on each, the two faces that best
+  // continue the surface (the flattest pair) and dropping the rest. Real benchmark meshes
+  // need it: TOPKIDS kid00, the reference shape of every TOPKIDS pair, has a stray triangle
+  // hanging off one edge. When false, such an edge is an InputError.
+  bool repair_non_manifold_edges = true;
 };
 
 // The engine's mesh plus the bridge back to the file's numbering.
@@ -27,10 +32,12 @@ struct CleanMesh {
 };
 
 // Validates and repairs: welds duplicate vertices, drops degenerate and duplicate faces,
-// drops unreferenced vertices (mapped to the nearest kept vertex), keeps the largest
-// component, makes face orientation consistent and outward. Throws InputError for what
-// cannot be repaired: no faces left, non-manifold edges (more than two faces on an
-// edge), a non-orientable surface.
+// drops all but two faces on every non-manifold edge, drops unreferenced vertices (mapped
+// to the nearest kept vertex), keeps the largest component, makes face orientation
+// consistent and outward. Non-manifold vertices (separate fans meeting at one vertex) are
+// kept as they are: nothing downstream needs a single fan per vertex. Throws InputError for
+// what cannot be repaired: no faces left, non-manifold edges when their repair is off, a
+// non-orientable surface.
 CleanMesh clean_mesh(const TriangleMesh& input, const CleaningOptions& options = {});
 
 }  // namespace isocorr

@@ -21,7 +21,8 @@ struct PreprocessOptions {
   SaliencyOptions saliency;
   CleaningOptions cleaning;
   double level0_radius = 0.2;   // level-0 sampling radius, fraction of the geodesic diameter
-  double level_shrink = 0.6;    // radius factor from one level to the next
+  double level_shrink = 0.66;   // radius factor from one level to the next: ~250 source
+                                // samples at K1 = 4, as in the paper
   int decision_level = 4;       // K1 (paper: 4, about 250 matched vertices)
   int max_level0_samples = 9;   // level-0 samples kept per mesh (M' <= this)
   int threads = 0;              // 0 = all cores
