@@ -47,18 +47,24 @@ int run_eval(const EvalArguments& args) {
     EvaluationOptions options;
     options.max_points = args.max_points;
     const GroundTruthScore score = score_against_ground_truth(target.mesh, geodesics, diameter, forward, truth, options);
+    const std::vector<int> seed_counts = {10, 20, 50, 100, 200, 500};
+    const std::vector<double> covered = coverage(target.mesh, geodesics, forward, seed_counts);
     if (args.json) {
       nlohmann::json out = {{"evaluated", score.evaluated},     {"d_grd", score.mean_error},
                             {"d_grd_max", score.max_error},     {"kim_auc", score.kim_auc},
                             {"kim_mean", score.mean_kim_error}, {"mirrored_fraction", score.mirrored_fraction},
                             {"far_fraction", score.far_fraction}, {"flip_free", score.flip_free},
-                            {"flip_rule", score.flip_rule},     {"ground_truth", truth.description}};
+                            {"flip_rule", score.flip_rule},     {"ground_truth", truth.description},
+                            {"coverage_seeds", seed_counts},    {"coverage", covered}};
       std::printf("%s\n", out.dump(2).c_str());
     } else {
       std::printf("ground truth   %s\nevaluated      %d points\nD_grd          %.4f\nd_grd-dagger   %.4f\n"
                   "Kim AUC        %.4f\nmirrored       %.3f\nflip-free      %s (%s)\n",
                   truth.description.c_str(), score.evaluated, score.mean_error, score.max_error, score.kim_auc,
                   score.mirrored_fraction, score.flip_free ? "yes" : "no", score.flip_rule.c_str());
+      std::printf("coverage       ");
+      for (size_t i = 0; i < seed_counts.size(); ++i) std::printf("%s%d cells %.3f", i ? ", " : "", seed_counts[i], covered[i]);
+      std::printf(" (SHREC'20: share of target area whose Voronoi cell holds an image)\n");
     }
     return kExitOk;
   } catch (const InputError& e) {

@@ -303,6 +303,9 @@ TEST(MeshCleaning, RepairsNonManifoldEdgeOfTopkidsReference) {
   ASSERT_NO_THROW(clean = clean_mesh(loaded.mesh));
   EXPECT_TRUE(mentions(clean.repairs, "non-manifold edge")) << joined(clean.repairs);
   EXPECT_TRUE(mentions(clean.repairs, "dropped 1 duplicate face")) << joined(clean.repairs);
+  // The fin's third corner, 8426, is used by no other face.
+  EXPECT_TRUE(mentions(clean.repairs, "dropped 1 vertex used by no face")) << joined(clean.repairs);
+  EXPECT_EQ(std::count(clean.clean_to_input.begin(), clean.clean_to_input.end(), 8426), 0);
   ASSERT_EQ(clean.input_to_clean.size(), loaded.mesh.vertices.size());
   for (int v : clean.input_to_clean) ASSERT_TRUE(v >= 0 && v < clean.mesh.num_vertices());
   EXPECT_EQ(faces_on_edge(clean.mesh, clean.input_to_clean[8425], clean.input_to_clean[10765]), 2);

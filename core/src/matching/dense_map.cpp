@@ -56,10 +56,26 @@ float l1(const float* x, const float* y, int count) {
   return sum;
 }
 
+// Weighted L1: geodesic distortion of a near-isometry grows with distance, so near anchors
+// are trusted more (weight 1 / (distance + locality)); weights sum to the anchor count so
+// the result stays comparable with the plain form.
+void locality_weights(const float* x, int count, float locality, float* weights) {
+  float total = 0;
+  for (int i = 0; i < count; ++i) total += weights[i] = 1.f / (x[i] + locality);
+  const float scale = count / total;
+  for (int i = 0; i < count; ++i) weights[i] *= scale;
+}
+
+float weighted_l1(const float* x, const float* y, const float* weights, int count) {
+  float sum = 0;
+  for (int i = 0; i < count; ++i) sum += weights[i] * std::abs(x[i] - y[i]);
+  return sum;
+}
+
 // One direction: images on `to` for every vertex of `from`.
 void match_direction(const PreprocessedShape& from, const Descriptors& from_desc,
                      const PreprocessedShape& to, const Descriptors& to_desc,
-                     const std::vector<std::pair<int, int>>& seeds, int threads,
+                     const std::vector<std::pair<int, int>>& seeds, float locality, int threads,
                      const JobControl& control, std::vector<int>& image,
                      std::vector<float>& cost) {
   const int n = from.mesh().num_vertices();
@@ -84,7 +100,15 @@ void match_direction(const PreprocessedShape& from, const Descriptors& from_desc
                    const int v = layer[i];
                    const float* x = from_desc.row(v);
                    float best = 0;
-                   image[v] = descend(to_topology, start[v], [&](int w) { return l1(x, to_desc.row(w), e); }, best);
+                   if (locality > 0) {
+                     thread_local std::vector<float> weights;
+                     weights.resize(e);
+                     locality_weights(x, e, locality, weights.data());
+                     image[v] = descend(to_topology, start[v],
+                                        [&](int w) { return weighted_l1(x, to_desc.row(w), weights.data(), e); }, best);
+                   } else {
+                     image[v] = descend(to_topology, start[v], [&](int w) { return l1(x, to_desc.row(w), e); }, best);
+                   }
                    cost[v] = best / e;
                  });
     std::vector<int> next_layer;
@@ -99,11 +123,39 @@ void match_direction(const PreprocessedShape& from, const Descriptors& from_desc
   }
 }
 
+// Pairs whose leave-one-out d_iso against all the others is among the worst `fraction`
+// are dropped (a tracked map on a non-isometric pair has a few misplaced samples, and an
+// anchor or seed there would pull its whole neighbourhood). Order is kept, so the first E
+// survivors are still the coarsest, evenly spread ones.
+std::vector<SamplePair> drop_least_consistent(const PreprocessedShape& source, const PreprocessedShape& target,
+                                              const std::vector<SamplePair>& pairs, double fraction) {
+  const size_t count = pairs.size();
+  const size_t dropped = static_cast<size_t>(fraction * count);
+  if (dropped == 0 || count < 8) return pairs;
+  std::vector<double> distortion(count, 0.0);
+  for (size_t p = 0; p < count; ++p) {
+    const int sv = source.sample_vertex(pairs[p].source_sample);
+    const int tv = target.sample_vertex(pairs[p].target_sample);
+    for (size_t q = 0; q < count; ++q)
+      if (q != p)
+        distortion[p] += std::abs(source.field(pairs[q].source_sample, sv) - target.field(pairs[q].target_sample, tv));
+  }
+  std::vector<double> sorted = distortion;
+  std::nth_element(sorted.begin(), sorted.end() - dropped, sorted.end());
+  const double limit = sorted[count - dropped];
+  std::vector<SamplePair> kept;
+  for (size_t p = 0; p < count; ++p)
+    if (distortion[p] < limit) kept.push_back(pairs[p]);
+  return kept;
+}
+
 }  // namespace
 
 DenseMap compute_dense_map(const PreprocessedShape& source, const PreprocessedShape& target,
-                           const std::vector<SamplePair>& pairs, const DenseOptions& options,
+                           const std::vector<SamplePair>& all_pairs, const DenseOptions& options,
                            const JobControl& control) {
+  const std::vector<SamplePair> reliable = drop_least_consistent(source, target, all_pairs, options.outlier_fraction);
+  const std::vector<SamplePair>& pairs = reliable;
   const int e = static_cast<int>(std::min(pairs.size(), static_cast<size_t>(std::max(1, options.anchor_count))));
   const int threads = resolve_thread_count(options.threads);
   const int source_n = source.mesh().num_vertices(), target_n = target.mesh().num_vertices();
@@ -163,9 +215,9 @@ DenseMap compute_dense_map(const PreprocessedShape& source, const PreprocessedSh
     reverse_seeds.push_back({target.sample_vertex(p.target_sample), source.sample_vertex(p.source_sample)});
   }
   DenseMap dense;
-  match_direction(source, source_desc, target, target_desc, forward_seeds, threads, control,
+  match_direction(source, source_desc, target, target_desc, forward_seeds, options.locality, threads, control,
                   dense.forward, dense.forward_diso);
-  match_direction(target, target_desc, source, source_desc, reverse_seeds, threads, control,
+  match_direction(target, target_desc, source, source_desc, reverse_seeds, options.locality, threads, control,
                   dense.reverse, dense.reverse_diso);
   return dense;
 }

@@ -9,15 +9,23 @@
 namespace isocorr {
 namespace {
 
-// d_iso(s, t | anchors): mean absolute difference of normalised geodesic distances.
-float pair_distortion(const PreprocessedShape& source, const PreprocessedShape& target,
-                      int source_vertex, int target_vertex, const std::vector<SamplePair>& anchors,
-                      size_t anchor_count) {
-  double sum = 0;
+// d_iso(s, t | anchors) with the largest `trim` share of the terms left out: a trimmed
+// mean, so that a few misplaced anchors or a non-isometric part (a cat's tail) do not
+// decide the match. `skip` (or -1) leaves one anchor out entirely.
+float anchored_distortion(const PreprocessedShape& source, const PreprocessedShape& target,
+                          int source_vertex, int target_vertex, const std::vector<SamplePair>& anchors,
+                          size_t anchor_count, int skip, double trim, std::vector<float>& scratch) {
+  scratch.clear();
   for (size_t a = 0; a < anchor_count; ++a)
-    sum += std::abs(source.field(anchors[a].source_sample, source_vertex) -
-                    target.field(anchors[a].target_sample, target_vertex));
-  return static_cast<float>(sum / std::max<size_t>(1, anchor_count));
+    if (static_cast<int>(a) != skip)
+      scratch.push_back(std::abs(source.field(anchors[a].source_sample, source_vertex) -
+                                 target.field(anchors[a].target_sample, target_vertex)));
+  if (scratch.empty()) return 0.f;
+  const size_t kept = std::max<size_t>(1, static_cast<size_t>(std::lround(scratch.size() * (1.0 - trim))));
+  if (kept < scratch.size()) std::nth_element(scratch.begin(), scratch.begin() + kept, scratch.end());
+  double sum = 0;
+  for (size_t i = 0; i < kept; ++i) sum += scratch[i];
+  return static_cast<float>(sum / kept);
 }
 
 // Level-0 samples are only roughly aligned on the two shapes (each mesh is sampled on its
@@ -29,6 +37,7 @@ void reassign_pairs(const PreprocessedShape& source, const PreprocessedShape& ta
                     std::vector<SamplePair>& pairs) {
   const std::vector<SamplePair> anchors = pairs;
   const size_t anchor_count = std::min(anchors.size(), static_cast<size_t>(options.anchor_cap));
+  std::vector<float> scratch;
   for (size_t p = 0; p < pairs.size(); ++p) {
     const int sv = source.sample_vertex(pairs[p].source_sample);
     const int current = pairs[p].target_sample;
@@ -37,12 +46,8 @@ void reassign_pairs(const PreprocessedShape& source, const PreprocessedShape& ta
     for (int j : pool) {
       const int tv = target.sample_vertex(j);
       if (target.field(current, tv) > radius) continue;
-      double sum = 0;
-      for (size_t a = 0; a < anchor_count; ++a) {
-        if (a == p) continue;
-        sum += std::abs(source.field(anchors[a].source_sample, sv) - target.field(anchors[a].target_sample, tv));
-      }
-      const float cost = static_cast<float>(sum / std::max<size_t>(1, anchor_count - (p < anchor_count)));
+      const float cost = anchored_distortion(source, target, sv, tv, anchors, anchor_count,
+                                             static_cast<int>(p), options.trim_fraction, scratch);
       if (cost < best_cost) best_cost = cost, best = j;
     }
     pairs[p].target_sample = best;
@@ -84,6 +89,7 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
   }
   const int levels = std::min(source.options().decision_level, target.options().decision_level);
   const double r0 = source.options().level0_radius, shrink = source.options().level_shrink;
+  std::vector<float> scratch;
   for (int level = 1; level <= levels; ++level) {
     control.check_cancelled();
     const std::vector<SamplePair> anchors = tracked.pairs;  // pairs of earlier levels
@@ -110,7 +116,8 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
         for (int j : pool) {
           const int tv = target.sample_vertex(j);
           if (pass == 0 && target.field(parent->target_sample, tv) > window) continue;
-          const float cost = pair_distortion(source, target, sv, tv, anchors, anchor_count);
+          const float cost = anchored_distortion(source, target, sv, tv, anchors, anchor_count, -1,
+                                                 options.trim_fraction, scratch);
           if (cost < best_cost) best_cost = cost, best = j;
         }
       }

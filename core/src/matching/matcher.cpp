@@ -32,16 +32,19 @@ Eigen::MatrixXd sample_distances(const PreprocessedShape& shape, int count) {
   return d;
 }
 
+// Orientation rule: a mirrored map, or one with a limb pair swapped, reverses the
+// handedness of part of the surface, so only maps whose orientation agreement is within
+// `orientation_margin` of the best one compete, and among them the least D_iso wins.
 int choose_tracked(const std::vector<TrackedMap>& tracked, const MatchSettings& settings) {
+  double best_orientation = 0;
+  for (const auto& t : tracked) best_orientation = std::max(best_orientation, t.orientation);
+  const bool use_orientation = settings.selection == SelectionRule::kOrientationThenDistortion &&
+                               best_orientation >= settings.orientation_threshold;
   int chosen = -1;
-  auto consider = [&](bool need_orientation) {
-    for (int i = 0; i < static_cast<int>(tracked.size()); ++i) {
-      if (need_orientation && tracked[i].orientation < settings.orientation_threshold) continue;
-      if (chosen < 0 || tracked[i].diso < tracked[chosen].diso) chosen = i;
-    }
-  };
-  if (settings.selection == SelectionRule::kOrientationThenDistortion) consider(true);
-  if (chosen < 0) consider(false);
+  for (int i = 0; i < static_cast<int>(tracked.size()); ++i) {
+    if (use_orientation && tracked[i].orientation < best_orientation - settings.orientation_margin) continue;
+    if (chosen < 0 || tracked[i].diso < tracked[chosen].diso) chosen = i;
+  }
   return chosen;
 }
 
@@ -60,7 +63,11 @@ void MatchSettings::validate() const {
   if (min_tracked < 1 || max_tracked < min_tracked) throw InputError("need 1 <= min tracked <= max tracked");
   if (orientation_threshold < 0 || orientation_threshold > 1)
     throw InputError("orientation threshold must lie in [0, 1]");
+  if (orientation_margin < 0 || orientation_margin > 1)
+    throw InputError("orientation margin must lie in [0, 1]");
   if (tracking.anchor_cap < 3) throw InputError("anchor cap must be at least 3");
+  if (tracking.trim_fraction < 0 || tracking.trim_fraction >= 0.9)
+    throw InputError("trim fraction must lie in [0, 0.9)");
   if (tracking.window_factor <= 0) throw InputError("window factor must be positive");
   if (dense.anchor_count < 3) throw InputError("dense anchor count E must be at least 3");
 }

@@ -16,7 +16,10 @@ namespace isocorr {
 
 struct DenseOptions {
   int anchor_count = 100;  // E
+  double outlier_fraction = 0.2;     // least consistent tracked pairs not used as anchors/seeds
   int anchor_refinement_rounds = 2;  // rounds moving anchor images to vertex accuracy
+  float locality = 0.05f;  // anchors weigh 1 / (distance + locality): near ones count more
+                           // (0 = plain d_iso); distances are fractions of the diameter
   int threads = 0;
 };
 

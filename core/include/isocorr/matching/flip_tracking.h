@@ -20,6 +20,8 @@ struct TrackingOptions {
   int anchor_cap = 100;        // E: anchors used for d_iso (the coarsest pairs, evenly spread)
   double window_factor = 2.0;  // a new sample's image is sought within this many times its
                                // distance to its parent sample, around the parent's image
+  double trim_fraction = 0.2;  // share of the largest d_iso terms ignored when matching a
+                               // sample (robust to misplaced anchors and non-isometric parts)
   int threads = 0;
 };
 
