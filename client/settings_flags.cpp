@@ -6,7 +6,7 @@ namespace isocorr::cli {
 
 void add_match_settings_flags(CLI::App& app, MatchSettings& s, std::string& selection) {
   const char* group = "Matching settings";
-  app.add_option("--level0-samples", s.level0_samples, "M: source samples at level 0")->group(group)->capture_default_str();
+  app.add_option("--level0-samples", s.level0_samples, "M: source samples at level 0 (0 = the number of source extremities, within [5, 7])")->group(group)->capture_default_str();
   app.add_option("--level0-extra-targets", s.level0_extra_targets, "M' - M: extra target samples at level 0")->group(group)->capture_default_str();
   app.add_option("--max-level0-diso", s.max_level0_diso, "level-0 maps above this D_iso are dropped")->group(group)->capture_default_str();
   app.add_option("--max-level0-maps", s.max_level0_maps, "keep at most this many sorted level-0 maps")->group(group)->capture_default_str();

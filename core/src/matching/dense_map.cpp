@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "isocorr/matching/surface_descent.h"
 #include "isocorr/util/parallel.h"
 
 namespace isocorr {
@@ -24,30 +25,6 @@ Descriptors build_descriptors(int vertices, const std::vector<const float*>& fie
   for (int a = 0; a < d.anchors; ++a)
     for (int v = 0; v < vertices; ++v) d.values[static_cast<size_t>(v) * d.anchors + a] = fields[a][v];
   return d;
-}
-
-// Greedy descent over the one-ring (widened to the two-ring when stuck) of a cost defined
-// on the vertices of `topology`'s mesh. Returns the local minimum reached from `start`.
-template <typename Cost>
-int descend(const MeshTopology& topology, int start, Cost cost, float& best) {
-  int w = start;
-  best = cost(w);
-  for (;;) {
-    int next = -1;
-    for (const int* u = topology.neighbours_begin(w); u != topology.neighbours_end(w); ++u) {
-      const float c = cost(*u);
-      if (c < best) best = c, next = *u;
-    }
-    if (next < 0) {
-      for (const int* u = topology.neighbours_begin(w); u != topology.neighbours_end(w); ++u)
-        for (const int* z = topology.neighbours_begin(*u); z != topology.neighbours_end(*u); ++z) {
-          const float c = cost(*z);
-          if (c < best) best = c, next = *z;
-        }
-    }
-    if (next < 0) return w;
-    w = next;
-  }
 }
 
 float l1(const float* x, const float* y, int count) {
@@ -104,10 +81,10 @@ void match_direction(const PreprocessedShape& from, const Descriptors& from_desc
                      thread_local std::vector<float> weights;
                      weights.resize(e);
                      locality_weights(x, e, locality, weights.data());
-                     image[v] = descend(to_topology, start[v],
+                     image[v] = descend_to_minimum(to_topology, start[v],
                                         [&](int w) { return weighted_l1(x, to_desc.row(w), weights.data(), e); }, best);
                    } else {
-                     image[v] = descend(to_topology, start[v], [&](int w) { return l1(x, to_desc.row(w), e); }, best);
+                     image[v] = descend_to_minimum(to_topology, start[v], [&](int w) { return l1(x, to_desc.row(w), e); }, best);
                    }
                    cost[v] = best / e;
                  });
@@ -182,7 +159,7 @@ DenseMap compute_dense_map(const PreprocessedShape& source, const PreprocessedSh
     parallel_for(e, threads, [&](int a, int) {
       const float* x = source_desc.row(source_vertex[a]);
       float best = 0;
-      moved_to[a] = descend(target_topology, target_vertex[a], [&](int w) {
+      moved_to[a] = descend_to_minimum(target_topology, target_vertex[a], [&](int w) {
         float sum = 0;
         for (int b = 0; b < e; ++b)
           if (b != a) sum += std::abs(x[b] - target_fields[b][w]);

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "isocorr/matching/orientation.h"
+#include "isocorr/matching/surface_descent.h"
 
 namespace isocorr {
 namespace {
@@ -55,6 +56,28 @@ void reassign_pairs(const PreprocessedShape& source, const PreprocessedShape& ta
   }
 }
 
+// Target samples are up to half a sample spacing from the true images, which scrambles
+// the small triangles of the orientation test. Each pair's image is therefore also
+// sought among all target vertices (descent from its sample against the anchors' fields,
+// which cover every vertex): no new geodesics are needed.
+void refine_to_vertices(const PreprocessedShape& source, const PreprocessedShape& target,
+                        const TrackingOptions& options, std::vector<SamplePair>& pairs) {
+  const size_t anchor_count = std::min(pairs.size(), static_cast<size_t>(options.anchor_cap));
+  const MeshTopology& topology = target.geodesics().topology();
+  std::vector<float> anchor_distances(anchor_count);
+  for (size_t p = 0; p < pairs.size(); ++p) {
+    const int sv = source.sample_vertex(pairs[p].source_sample);
+    for (size_t a = 0; a < anchor_count; ++a) anchor_distances[a] = source.field(pairs[a].source_sample, sv);
+    float best = 0;
+    pairs[p].target_vertex = descend_to_minimum(topology, target.sample_vertex(pairs[p].target_sample), [&](int w) {
+      float sum = 0;
+      for (size_t a = 0; a < anchor_count; ++a)
+        if (a != p) sum += std::abs(anchor_distances[a] - target.field(pairs[a].target_sample, w));
+      return sum;
+    }, best);
+  }
+}
+
 }  // namespace
 
 double sample_map_diso(const PreprocessedShape& source, const PreprocessedShape& target,
@@ -94,9 +117,13 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
     control.check_cancelled();
     const std::vector<SamplePair> anchors = tracked.pairs;  // pairs of earlier levels
     const size_t anchor_count = std::min(anchors.size(), static_cast<size_t>(options.anchor_cap));
+    // Offering only this level's target samples (as the paper's patches do) leaves the
+    // true image up to half a coarse spacing from any candidate; with per-sample matching
+    // the finest samples can be offered at every level (options.pool_all_levels).
+    const int pool_step = options.pool_all_levels ? std::numeric_limits<int>::max() : 2 * level + 1;
     std::vector<int> pool;
     for (int j = 0; j < target.num_samples(); ++j)
-      if (target.sample_step(j) <= 2 * level + 1) pool.push_back(j);
+      if (target.sample_step(j) <= pool_step) pool.push_back(j);
     const double radius = r0 * std::pow(shrink, level);
 
     for (int s = 0; s < source.num_samples(); ++s) {
@@ -126,6 +153,7 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
     }
     reassign_pairs(source, target, pool, radius, options, tracked.pairs);
   }
+  refine_to_vertices(source, target, options, tracked.pairs);
   tracked.diso = sample_map_diso(source, target, tracked.pairs);
   tracked.orientation = orientation_agreement(source, target, tracked.pairs);
   return tracked;

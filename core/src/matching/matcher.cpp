@@ -51,11 +51,11 @@ int choose_tracked(const std::vector<TrackedMap>& tracked, const MatchSettings& 
 }  // namespace
 
 void MatchSettings::validate() const {
-  if (level0_samples < 3 || level0_samples > 10)
-    throw InputError("level-0 sample count M must lie in [3, 10]");
+  if (level0_samples != 0 && (level0_samples < 3 || level0_samples > 10))
+    throw InputError("level-0 sample count M must be 0 (automatic) or lie in [3, 10]");
   if (level0_extra_targets < 0 || level0_extra_targets > 3)
     throw InputError("extra level-0 target samples (M' - M) must lie in [0, 3]");
-  if (level0_samples + level0_extra_targets > preprocess.max_level0_samples)
+  if (std::max(level0_samples, 7) + level0_extra_targets > preprocess.max_level0_samples)
     throw InputError("M + (M' - M) exceeds the level-0 samples kept per mesh (" +
                      std::to_string(preprocess.max_level0_samples) + ")");
   if (max_level0_diso <= 0 || max_level0_diso > 1) throw InputError("max level-0 D_iso must lie in (0, 1]");
@@ -82,7 +82,10 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
 
   // Level 0.
   control.report({"level0", 0, total_levels, 0.0});
-  const int m = std::min(settings.level0_samples, source.num_level0_samples());
+  const int requested_m = settings.level0_samples > 0
+                              ? settings.level0_samples
+                              : std::clamp(static_cast<int>(source.saliency().extremities.size()), 5, 7);
+  const int m = std::min(requested_m, source.num_level0_samples());
   const int m_prime = std::min(m + settings.level0_extra_targets, target.num_level0_samples());
   if (m < 3 || m_prime < m)
     throw InputError("too few level-0 samples (" + std::to_string(m) + " on the source, " +

@@ -14,7 +14,10 @@ double handedness(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& n) {
   return (b - a).cross(c - a).dot(n);
 }
 
-constexpr int kSpreadCandidates = 5;
+// Triangle corners lie at these geodesic distances from the apex (fractions of the
+// diameter): a few sample spacings, so one sample's error cannot swap two corners.
+constexpr float kBandLow = 0.06f;
+constexpr float kBandHigh = 0.12f;
 
 }  // namespace
 
@@ -28,32 +31,33 @@ double orientation_agreement(const PreprocessedShape& source, const Preprocessed
   std::vector<int> others(count);
   for (int a = 0; a < count; ++a) {
     const int sa = source.sample_vertex(pairs[a].source_sample);
-    others.resize(count);
-    std::iota(others.begin(), others.end(), 0);
-    others.erase(others.begin() + a);
-    const int nearest = std::min<int>(kSpreadCandidates + 1, static_cast<int>(others.size()));
-    std::partial_sort(others.begin(), others.begin() + nearest, others.end(), [&](int x, int y) {
-      const float dx = source.field(pairs[a].source_sample, source.sample_vertex(pairs[x].source_sample));
-      const float dy = source.field(pairs[a].source_sample, source.sample_vertex(pairs[y].source_sample));
-      return dx != dy ? dx < dy : x < y;
-    });
-    const int b = others[0];
-    const int sb = source.sample_vertex(pairs[b].source_sample);
-    const Vec3& n = source.normals()[sa];
-    // Pick the third corner that makes the best-spread triangle, so the sign is stable.
-    int c = -1;
-    double best_spread = 0;
-    for (int k = 1; k < nearest; ++k) {
-      const int sc = source.sample_vertex(pairs[others[k]].source_sample);
-      const Vec3 u = sp[sb] - sp[sa], w = sp[sc] - sp[sa];
-      const double spread = std::abs(handedness(sp[sa], sp[sb], sp[sc], n)) / (u.norm() * w.norm() + 1e-30);
-      if (spread > best_spread) best_spread = spread, c = others[k];
+    others.clear();
+    // Corners at a distance band: far enough that a sample's error cannot swap them,
+    // near enough that the triangle still lies roughly in the tangent plane at a.
+    for (int o = 0; o < count; ++o) {
+      if (o == a) continue;
+      const float d = source.field(pairs[a].source_sample, source.sample_vertex(pairs[o].source_sample));
+      if (d >= kBandLow && d <= kBandHigh) others.push_back(o);
     }
+    if (others.size() < 2) continue;
+    const Vec3& n = source.normals()[sa];
+    int b = -1, c = -1;
+    double best_spread = 0;
+    for (size_t i = 0; i < others.size(); ++i)
+      for (size_t j = i + 1; j < others.size(); ++j) {
+        const int sb = source.sample_vertex(pairs[others[i]].source_sample);
+        const int sc = source.sample_vertex(pairs[others[j]].source_sample);
+        const Vec3 u = sp[sb] - sp[sa], w = sp[sc] - sp[sa];
+        const double spread = std::abs(handedness(sp[sa], sp[sb], sp[sc], n)) / (u.norm() * w.norm() + 1e-30);
+        if (spread > best_spread) best_spread = spread, b = others[i], c = others[j];
+      }
+    const int sb = b < 0 ? sa : source.sample_vertex(pairs[b].source_sample);
     if (c < 0 || best_spread < 0.2) continue;
     const int sc = source.sample_vertex(pairs[c].source_sample);
-    const int ta = target.sample_vertex(pairs[a].target_sample);
-    const int tb = target.sample_vertex(pairs[b].target_sample);
-    const int tc = target.sample_vertex(pairs[c].target_sample);
+    auto image = [&](const SamplePair& p) {
+      return p.target_vertex >= 0 ? p.target_vertex : target.sample_vertex(p.target_sample);
+    };
+    const int ta = image(pairs[a]), tb = image(pairs[b]), tc = image(pairs[c]);
     const double source_sign = handedness(sp[sa], sp[sb], sp[sc], n);
     const double target_sign = handedness(tp[ta], tp[tb], tp[tc], target.normals()[ta]);
     if (target_sign == 0) continue;

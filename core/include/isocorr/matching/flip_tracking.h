@@ -14,6 +14,7 @@ struct SamplePair {
   int source_sample = 0;
   int target_sample = 0;
   float diso = 0;  // d_iso of the pair against the anchors it was matched with
+  int target_vertex = -1;  // the target vertex (not sample) that best agrees with the anchors
 };
 
 struct TrackingOptions {
@@ -22,6 +23,7 @@ struct TrackingOptions {
                                // distance to its parent sample, around the parent's image
   double trim_fraction = 0.2;  // share of the largest d_iso terms ignored when matching a
                                // sample (robust to misplaced anchors and non-isometric parts)
+  bool pool_all_levels = true;  // offer every target sample at every level
   int threads = 0;
 };
 

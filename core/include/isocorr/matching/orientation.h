@@ -11,7 +11,7 @@
 namespace isocorr {
 
 // Over sample pairs: each matched sample forms a triangle with two nearby matched samples
-// (its nearest, and the best-spread of the next few); the result is the fraction of these
+// (the best-spread pair at a few sample spacings, by vertex-accurate images); the result is the fraction of these
 // triangles whose image has the same handedness relative to the surface normal.
 double orientation_agreement(const PreprocessedShape& source, const PreprocessedShape& target,
                              const std::vector<SamplePair>& pairs);
