@@ -1,6 +1,12 @@
 // Subcommands of `isocorr`. Each registers itself on the app and runs when selected.
 #pragma once
 
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "isocorr/matching/matcher.h"
+
 namespace CLI {
 class App;
 }
@@ -14,9 +20,22 @@ enum ExitCode : int {
   kExitBadInput = 2,      // unusable input files or settings
   kExitUnavailable = 3,   // server unreachable (service mode)
   kExitCancelled = 4,
+  kExitUnauthenticated = 5,  // the server wants a (valid) token: --token-file
+  kExitNotDone = 6,          // `isocorr wait`: the job is still running at the timeout
 };
 
-void register_match_command(CLI::App& app, int& exit_code);
+// The files and settings of one `isocorr match`, run locally or on a server.
+struct MatchJobFiles {
+  std::string source, target, output, reverse_output, report;
+  std::string colour_ply;  // prefix of the coloured PLY pair, empty = none
+  MatchSettings settings;
+};
+
+// Runs a match on a server when the user asked for one (`--server`), returning the exit
+// code; nullopt means "run it in-process". Provided by the remote commands.
+using RemoteMatchRunner = std::function<std::optional<int>(const MatchJobFiles&)>;
+
+void register_match_command(CLI::App& app, int& exit_code, RemoteMatchRunner remote = {});
 void register_eval_command(CLI::App& app, int& exit_code);
 
 }  // namespace isocorr::cli

@@ -1,17 +1,34 @@
 // `isocorr`: dense correspondence between two nearly isometric meshes.
 #include <CLI/CLI.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include "commands.h"
+#ifdef ISOCORR_WITH_SERVICE
+#include "remote/connection.h"
+#include "remote/remote_commands.h"
+#endif
 
 int main(int argc, char** argv) {
+  // Logs and progress on stderr, so stdout carries only results (maps, --json output).
+  spdlog::set_default_logger(spdlog::stderr_color_mt("isocorr"));
+  spdlog::set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%^%l%$] %v");  // spdlog's default, without the logger name
   CLI::App app{"isocorr: dense isometric shape correspondence (coarse-to-fine combinatorial "
                "matching with symmetric-flip tracking)"};
   app.require_subcommand(1);
   bool verbose = false;
   app.add_flag("-v,--verbose", verbose, "log every stage");
   int exit_code = isocorr::cli::kExitOk;
+#ifdef ISOCORR_WITH_SERVICE
+  // Connection flags live on the top level; fallthrough lets them follow the subcommand too.
+  isocorr::cli::ConnectionOptions connection;
+  isocorr::cli::add_connection_flags(app, connection);
+  app.fallthrough();
+  const auto remote = isocorr::cli::register_remote_commands(app, connection, exit_code);
+  isocorr::cli::register_match_command(app, exit_code, remote);
+#else
   isocorr::cli::register_match_command(app, exit_code);
+#endif
   isocorr::cli::register_eval_command(app, exit_code);
   app.parse_complete_callback([&] { spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info); });
   try {

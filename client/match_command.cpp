@@ -1,6 +1,4 @@
 // `isocorr match SOURCE TARGET -o MAP`: the engine in-process, the embedded default.
-#include <unistd.h>
-
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -12,8 +10,10 @@
 #include "commands.h"
 #include "isocorr/matching/matcher.h"
 #include "isocorr/mesh/mesh_io.h"
+#include "isocorr/output/colour_transfer.h"
 #include "isocorr/output/map_files.h"
 #include "isocorr/output/match_report.h"
+#include "progress_printer.h"
 #include "settings_flags.h"
 
 namespace isocorr::cli {
@@ -23,34 +23,11 @@ std::atomic<bool> g_interrupted{false};
 void on_interrupt(int) { g_interrupted = true; }
 
 struct MatchArguments {
-  std::string source, target, output, reverse_output, report;
+  MatchJobFiles files;
   std::string selection = "orientation";
-  MatchSettings settings;
 };
 
-// A one-line bar on a terminal, plain lines (one per stage change) otherwise.
-class ProgressPrinter {
- public:
-  ProgressPrinter() : terminal_(isatty(STDERR_FILENO)) {}
-  void operator()(const Progress& p) {
-    if (terminal_) {
-      const int width = 30, filled = static_cast<int>(p.fraction * width);
-      std::fprintf(stderr, "\r[%-*s] %3d%% %-18s level %d/%d", width, std::string(filled, '#').c_str(), width,
-                   static_cast<int>(p.fraction * 100), p.stage.c_str(), p.level, p.levels);
-      if (p.stage == "done") std::fprintf(stderr, "\n");
-    } else if (p.stage != last_stage_) {
-      spdlog::info("stage {} (level {}/{})", p.stage, p.level, p.levels);
-    }
-    last_stage_ = p.stage;
-  }
-
- private:
-  bool terminal_;
-  std::string last_stage_;
-};
-
-int run_match(MatchArguments& args) {
-  apply_selection(args.selection, args.settings);
+int run_match(const MatchJobFiles& args) {
   const auto start = std::chrono::steady_clock::now();
   try {
     const LoadedMesh source = load_mesh(args.source);
@@ -77,6 +54,7 @@ int run_match(MatchArguments& args) {
       out << match_report_json(result, args.settings) << '\n';
       if (!out) throw InputError("cannot write report '" + args.report + "'");
     }
+    if (!args.colour_ply.empty()) write_colour_ply_pair(args.colour_ply, source.mesh, target.mesh, result.reverse);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     spdlog::info("matched {} -> {} vertices in {:.2f} s: D_iso {:.4f}, tracked {} of {} level-0 maps, "
                  "chose #{} (orientation {:.2f}); map written to {}",
@@ -98,18 +76,28 @@ int run_match(MatchArguments& args) {
 
 }  // namespace
 
-void register_match_command(CLI::App& app, int& exit_code) {
+void register_match_command(CLI::App& app, int& exit_code, RemoteMatchRunner remote) {
   auto args = std::make_shared<MatchArguments>();
   CLI::App* cmd = app.add_subcommand("match", "match SOURCE to TARGET and write the dense map");
-  cmd->add_option("source", args->source, "source mesh (OFF, OBJ or PLY)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("target", args->target, "target mesh (OFF, OBJ or PLY)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("-o,--output", args->output,
+  cmd->add_option("source", args->files.source, "source mesh (OFF, OBJ or PLY)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("target", args->files.target, "target mesh (OFF, OBJ or PLY)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", args->files.output,
                   "map file: one 0-based target vertex per source vertex, one per line (binary if it ends in .bin)")
       ->required();
-  cmd->add_option("--reverse-out", args->reverse_output, "also write the target-to-source map");
-  cmd->add_option("--report", args->report, "write a JSON report (timings, candidates, tracked maps, D_iso)");
-  add_match_settings_flags(*cmd, args->settings, args->selection);
-  cmd->callback([args, &exit_code] { exit_code = run_match(*args); });
+  cmd->add_option("--reverse-out", args->files.reverse_output, "also write the target-to-source map");
+  cmd->add_option("--report", args->files.report, "write a JSON report (timings, candidates, tracked maps, D_iso)");
+  cmd->add_option("--colour-ply", args->files.colour_ply,
+                  "write PREFIXsource.ply and PREFIXtarget.ply, the target coloured through the map");
+  add_match_settings_flags(*cmd, args->files.settings, args->selection);
+  cmd->callback([args, remote, &exit_code] {
+    apply_selection(args->selection, args->files.settings);
+    if (remote)
+      if (const std::optional<int> code = remote(args->files)) {
+        exit_code = *code;
+        return;
+      }
+    exit_code = run_match(args->files);
+  });
 }
 
 }  // namespace isocorr::cli

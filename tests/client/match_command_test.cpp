@@ -56,8 +56,11 @@ TEST_F(MatchCommand, WritesMapsAndReportThatEvalScores) {
   const fs::path map = *dir_ / "out.map", reverse = *dir_ / "out.reverse.map", report = *dir_ / "report.json";
   const CommandRun match = run_command(cli_ + " match " + (*dir_ / "meshes/creature.ply").string() + " " +
                         (*dir_ / "meshes/creature_moved.ply").string() + " -o " + map.string() +
-                        " --reverse-out " + reverse.string() + " --report " + report.string());
+                        " --reverse-out " + reverse.string() + " --report " + report.string() +
+                        " --colour-ply " + (*dir_ / "view_").string());
   ASSERT_EQ(match.exit_code, 0) << match.output;
+  EXPECT_GT(fs::file_size(*dir_ / "view_source.ply"), 0u);
+  EXPECT_EQ(fs::file_size(*dir_ / "view_target.ply"), fs::file_size(*dir_ / "view_source.ply"));
   const std::vector<int> forward = read_lines(map);
   const std::vector<int> truth = read_lines(*dir_ / "gt/creature_to_moved.txt");
   ASSERT_EQ(forward.size(), truth.size());

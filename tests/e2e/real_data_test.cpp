@@ -47,8 +47,8 @@ TEST_F(RealData, ToscaWolfIsFlipFreeAndAccurate) {
   EXPECT_LT(score.mean_error, 0.035);
 }
 
-TEST_F(RealData, FaustPairIsFlipFreeAndAccurate) {
-  const GroundTruthScore score = match_and_score("faust_reg6890", "off/tr_reg_000.off", "off/tr_reg_001.off");
+TEST_F(RealData, ScapePairIsFlipFreeAndAccurate) {
+  const GroundTruthScore score = match_and_score("scape", "off/mesh000.off", "off/mesh001.off");
   EXPECT_TRUE(score.flip_free) << score.flip_rule << "; far " << score.far_fraction;
   EXPECT_LT(score.mean_error, 0.035);
 }

@@ -1,0 +1,60 @@
+#include "remote/mesh_upload.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "isocorr/util/error.h"
+#include "remote/rpc_error.h"
+#include "storage/sha256.h"
+
+namespace isocorr::cli {
+namespace {
+
+constexpr size_t kChunkBytes = 1 << 20;  // well under gRPC's 4 MiB message limit
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError("cannot read mesh file '" + path + "'");
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return bytes.str();
+}
+
+}  // namespace
+
+UploadOutcome ensure_uploaded(Connection& connection, const std::string& path) {
+  const std::string bytes = read_file(path);
+  server::Sha256 hasher;
+  hasher.update(bytes);
+  const std::string digest = hasher.hex_digest();
+
+  UploadOutcome outcome;
+  v1::GetMeshRequest get;
+  get.set_name("meshes/" + digest);
+  const grpc::Status found = connection.meshes().GetMesh(connection.context().get(), get, &outcome.mesh);
+  if (found.ok()) return outcome;
+  if (found.error_code() != grpc::StatusCode::NOT_FOUND) check_rpc(found, "cannot look up " + path);
+
+  auto context = connection.context(/*long_call=*/true);
+  v1::UploadMeshResponse response;
+  auto writer = connection.meshes().UploadMesh(context.get(), &response);
+  v1::UploadMeshRequest request;
+  request.mutable_header()->set_sha256(digest);
+  request.mutable_header()->set_filename(std::filesystem::path(path).filename().string());
+  request.mutable_header()->set_size_bytes(static_cast<int64_t>(bytes.size()));
+  // A failed write means the server has ended the call (an error, or it found the digest
+  // meanwhile); Finish tells which.
+  bool open = writer->Write(request);
+  for (size_t offset = 0; open && offset < bytes.size(); offset += kChunkBytes) {
+    request.set_chunk(bytes.substr(offset, kChunkBytes));
+    open = writer->Write(request);
+  }
+  if (open) writer->WritesDone();
+  check_rpc(writer->Finish(), "cannot upload " + path);
+  outcome.mesh = response.mesh();
+  outcome.uploaded = !response.already_existed();
+  return outcome;
+}
+
+}  // namespace isocorr::cli

@@ -1,0 +1,13 @@
+// isocorr.v1.MatchSettings <-> isocorr::MatchSettings, shared by the server and the client.
+// Unset proto fields keep the engine's defaults; the reverse direction sets every field.
+#pragma once
+
+#include "isocorr/matching/matcher.h"
+#include "isocorr/v1/isocorr.pb.h"
+
+namespace isocorr::api {
+
+MatchSettings settings_from_proto(const v1::MatchSettings& proto);
+v1::MatchSettings settings_to_proto(const MatchSettings& settings);
+
+}  // namespace isocorr::api

@@ -1,0 +1,52 @@
+#include "api/call_guard.h"
+
+#include <atomic>
+
+#include <spdlog/spdlog.h>
+
+#include "isocorr/util/error.h"
+#include "service_error.h"
+
+namespace isocorr::server {
+namespace {
+
+grpc::StatusCode code_for(ServiceError::Kind kind) {
+  switch (kind) {
+    case ServiceError::Kind::kInvalidArgument: return grpc::StatusCode::INVALID_ARGUMENT;
+    case ServiceError::Kind::kNotFound: return grpc::StatusCode::NOT_FOUND;
+    case ServiceError::Kind::kResourceExhausted: return grpc::StatusCode::RESOURCE_EXHAUSTED;
+    case ServiceError::Kind::kFailedPrecondition: return grpc::StatusCode::FAILED_PRECONDITION;
+    case ServiceError::Kind::kUnavailable: return grpc::StatusCode::UNAVAILABLE;
+  }
+  return grpc::StatusCode::INTERNAL;
+}
+
+}  // namespace
+
+grpc::Status guarded_call(const char* method, grpc::ServerContext& context, const TokenAuth& auth,
+                          const std::function<grpc::Status(const CallInfo&)>& body) {
+  static std::atomic<uint64_t> counter{0};
+  const CallInfo call{"r" + std::to_string(++counter)};
+  spdlog::debug("[{}] {} from {}", call.request_id, method, context.peer());
+  grpc::Status status = auth.check(context);
+  if (status.ok()) {
+    try {
+      status = body(call);
+    } catch (const ServiceError& e) {
+      status = grpc::Status(code_for(e.kind()), e.what());
+    } catch (const InputError& e) {
+      status = grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, e.what());
+    } catch (const std::exception& e) {
+      spdlog::error("[{}] {} internal error: {}", call.request_id, method, e.what());
+      status = grpc::Status(grpc::StatusCode::INTERNAL, std::string("internal error: ") + e.what());
+    }
+  }
+  if (status.ok())
+    spdlog::info("[{}] {} ok", call.request_id, method);
+  else
+    spdlog::info("[{}] {} -> {} {}", call.request_id, method, static_cast<int>(status.error_code()),
+                 status.error_message());
+  return status;
+}
+
+}  // namespace isocorr::server

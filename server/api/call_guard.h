@@ -1,0 +1,24 @@
+// What every API method does around its body: check the bearer token, give the call a
+// request id for the logs, and turn domain errors into gRPC status codes.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include <grpcpp/server_context.h>
+
+#include "api/auth.h"
+
+namespace isocorr::server {
+
+struct CallInfo {
+  std::string request_id;  // "r17", on every log line of the call
+};
+
+// Runs `body` when the token is valid. ServiceError kinds map to INVALID_ARGUMENT,
+// NOT_FOUND, RESOURCE_EXHAUSTED, FAILED_PRECONDITION and UNAVAILABLE; InputError to
+// INVALID_ARGUMENT; anything else to INTERNAL (logged).
+grpc::Status guarded_call(const char* method, grpc::ServerContext& context, const TokenAuth& auth,
+                          const std::function<grpc::Status(const CallInfo&)>& body);
+
+}  // namespace isocorr::server

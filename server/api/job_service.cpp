@@ -1,0 +1,183 @@
+#include "api/job_service.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "api/call_guard.h"
+#include "api/paging.h"
+#include "api/resource_codec.h"
+#include "codec/settings_codec.h"
+#include "service_error.h"
+
+namespace isocorr::server {
+using Kind = ServiceError::Kind;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// Long waits wake up this often to notice a client that went away.
+constexpr auto kPollInterval = std::chrono::milliseconds(500);
+constexpr size_t kIndicesPerChunk = 256 * 1024;  // 1 MiB of int32, under the 4 MiB limit
+constexpr size_t kReportBytesPerChunk = 1 << 20;
+
+std::string require_job_id(const std::string& name) {
+  const std::string id = job_id_from_name(name);
+  if (id.empty()) throw ServiceError(Kind::kInvalidArgument, "job names look like jobs/{id}, got '" + name + "'");
+  return id;
+}
+
+std::string require_mesh_digest(const std::string& name, const char* field) {
+  const std::string digest = mesh_digest_from_name(name);
+  if (digest.empty())
+    throw ServiceError(Kind::kInvalidArgument,
+                       std::string(field) + " must look like meshes/{sha256}, got '" + name + "'");
+  return digest;
+}
+
+// The caller's deadline on the steady clock (far future when it set none).
+Clock::time_point call_deadline(const grpc::ServerContext& context) {
+  const auto remaining = context.deadline() - std::chrono::system_clock::now();
+  if (remaining > std::chrono::hours(24 * 365)) return Clock::time_point::max();
+  return Clock::now() + std::chrono::duration_cast<Clock::duration>(remaining);
+}
+
+template <typename T, typename Setter>
+bool stream_elements(grpc::ServerWriter<v1::ResultChunk>& writer, v1::ResultPart part, const std::vector<T>& values,
+                     Setter add) {
+  size_t offset = 0;
+  do {
+    v1::ResultChunk chunk;
+    chunk.set_part(part);
+    chunk.set_offset(static_cast<int64_t>(offset));
+    chunk.set_total(static_cast<int64_t>(values.size()));
+    const size_t end = std::min(values.size(), offset + kIndicesPerChunk);
+    for (size_t i = offset; i < end; ++i) add(chunk, values[i]);
+    if (!writer.Write(chunk)) return false;
+    offset = end;
+  } while (offset < values.size());
+  return true;
+}
+
+}  // namespace
+
+grpc::Status JobServiceImpl::CreateMatchJob(grpc::ServerContext* context, const v1::CreateMatchJobRequest* request,
+                                            v1::Job* response) {
+  return guarded_call("CreateMatchJob", *context, auth_, [&](const CallInfo&) {
+    const std::string source = require_mesh_digest(request->source_mesh(), "source_mesh");
+    const std::string target = require_mesh_digest(request->target_mesh(), "target_mesh");
+    *response = job_to_proto(jobs_.create(source, target, api::settings_from_proto(request->settings())));
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status JobServiceImpl::GetJob(grpc::ServerContext* context, const v1::GetJobRequest* request,
+                                    v1::Job* response) {
+  return guarded_call("GetJob", *context, auth_, [&](const CallInfo&) {
+    *response = job_to_proto(jobs_.get(require_job_id(request->name())));
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status JobServiceImpl::ListJobs(grpc::ServerContext* context, const v1::ListJobsRequest* request,
+                                      v1::ListJobsResponse* response) {
+  return guarded_call("ListJobs", *context, auth_, [&](const CallInfo&) {
+    const std::vector<JobRecord> jobs = jobs_.list();
+    const Page page = page_of(jobs.size(), request->page_size(), request->page_token());
+    for (size_t i = page.begin; i < page.end; ++i) *response->add_jobs() = job_to_proto(jobs[i]);
+    response->set_next_page_token(page.next_token);
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status JobServiceImpl::CancelJob(grpc::ServerContext* context, const v1::CancelJobRequest* request,
+                                       v1::Job* response) {
+  return guarded_call("CancelJob", *context, auth_, [&](const CallInfo&) {
+    *response = job_to_proto(jobs_.cancel(require_job_id(request->name())));
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status JobServiceImpl::WaitJob(grpc::ServerContext* context, const v1::WaitJobRequest* request,
+                                     v1::Job* response) {
+  return guarded_call("WaitJob", *context, auth_, [&](const CallInfo&) {
+    const std::string id = require_job_id(request->name());
+    Clock::time_point deadline = call_deadline(*context);
+    if (request->has_timeout() && (request->timeout().seconds() > 0 || request->timeout().nanos() > 0)) {
+      const auto timeout = std::chrono::seconds(request->timeout().seconds()) +
+                           std::chrono::nanoseconds(request->timeout().nanos());
+      deadline = std::min(deadline, Clock::now() + std::chrono::duration_cast<Clock::duration>(timeout));
+    }
+    JobRecord job = jobs_.get(id);
+    while (!is_final(job.state) && Clock::now() < deadline && !context->IsCancelled())
+      job = jobs_.wait_for_change(id, job.version, std::min(deadline, Clock::now() + kPollInterval));
+    *response = job_to_proto(job);  // AIP-151: not done yet is a normal answer
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status JobServiceImpl::WatchJob(grpc::ServerContext* context, const v1::WatchJobRequest* request,
+                                      grpc::ServerWriter<v1::Job>* writer) {
+  return guarded_call("WatchJob", *context, auth_, [&](const CallInfo&) {
+    const std::string id = require_job_id(request->name());
+    JobRecord job = jobs_.get(id);
+    if (!writer->Write(job_to_proto(job))) return grpc::Status::OK;
+    while (!is_final(job.state)) {
+      if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "watch cancelled by the client");
+      const uint64_t seen = job.version;
+      job = jobs_.wait_for_change(id, seen, Clock::now() + kPollInterval);
+      if (job.version != seen && !writer->Write(job_to_proto(job))) return grpc::Status::OK;
+    }
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status JobServiceImpl::DownloadResult(grpc::ServerContext* context, const v1::DownloadResultRequest* request,
+                                            grpc::ServerWriter<v1::ResultChunk>* writer) {
+  return guarded_call("DownloadResult", *context, auth_, [&](const CallInfo&) {
+    const std::string id = require_job_id(request->name());
+    const JobRecord job = jobs_.get(id);
+    if (job.state != JobState::kSucceeded)
+      throw ServiceError(Kind::kFailedPrecondition, "job " + request->name() + " is " + job_state_name(job.state) +
+                                                        "; results exist only for SUCCEEDED jobs");
+    std::vector<v1::ResultPart> parts;
+    for (const int part : request->parts()) parts.push_back(static_cast<v1::ResultPart>(part));
+    if (parts.empty())
+      parts = {v1::FORWARD_MAP, v1::REVERSE_MAP, v1::FORWARD_CONFIDENCE, v1::REVERSE_CONFIDENCE, v1::REPORT_JSON};
+    const JobJournal& journal = jobs_.journal();
+    auto add_index = [](v1::ResultChunk& chunk, int value) { chunk.add_indices(value); };
+    auto add_value = [](v1::ResultChunk& chunk, float value) { chunk.add_values(value); };
+    for (const v1::ResultPart part : parts) {
+      bool written = true;
+      switch (part) {
+        case v1::FORWARD_MAP: written = stream_elements(*writer, part, journal.read_indices(id, "forward"), add_index); break;
+        case v1::REVERSE_MAP: written = stream_elements(*writer, part, journal.read_indices(id, "reverse"), add_index); break;
+        case v1::FORWARD_CONFIDENCE:
+          written = stream_elements(*writer, part, journal.read_values(id, "forward_confidence"), add_value);
+          break;
+        case v1::REVERSE_CONFIDENCE:
+          written = stream_elements(*writer, part, journal.read_values(id, "reverse_confidence"), add_value);
+          break;
+        case v1::REPORT_JSON: {
+          const std::string report = journal.read_report(id);
+          for (size_t offset = 0; written && (offset < report.size() || offset == 0);
+               offset += kReportBytesPerChunk) {
+            v1::ResultChunk chunk;
+            chunk.set_part(part);
+            chunk.set_offset(static_cast<int64_t>(offset));
+            chunk.set_total(static_cast<int64_t>(report.size()));
+            chunk.set_data(report.substr(offset, kReportBytesPerChunk));
+            written = writer->Write(chunk);
+            if (report.empty()) break;
+          }
+          break;
+        }
+        default:
+          throw ServiceError(Kind::kInvalidArgument, "unknown result part " + std::to_string(part));
+      }
+      if (!written) return grpc::Status(grpc::StatusCode::CANCELLED, "client went away");
+    }
+    return grpc::Status::OK;
+  });
+}
+
+}  // namespace isocorr::server

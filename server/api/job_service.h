@@ -1,0 +1,31 @@
+// isocorr.v1.JobService: translates requests to the job manager and the journal's results.
+#pragma once
+
+#include "api/auth.h"
+#include "isocorr/v1/isocorr.grpc.pb.h"
+#include "jobs/job_manager.h"
+
+namespace isocorr::server {
+
+class JobServiceImpl final : public v1::JobService::Service {
+ public:
+  JobServiceImpl(JobManager& jobs, const TokenAuth& auth) : jobs_(jobs), auth_(auth) {}
+
+  grpc::Status CreateMatchJob(grpc::ServerContext* context, const v1::CreateMatchJobRequest* request,
+                              v1::Job* response) override;
+  grpc::Status GetJob(grpc::ServerContext* context, const v1::GetJobRequest* request, v1::Job* response) override;
+  grpc::Status ListJobs(grpc::ServerContext* context, const v1::ListJobsRequest* request,
+                        v1::ListJobsResponse* response) override;
+  grpc::Status CancelJob(grpc::ServerContext* context, const v1::CancelJobRequest* request, v1::Job* response) override;
+  grpc::Status WaitJob(grpc::ServerContext* context, const v1::WaitJobRequest* request, v1::Job* response) override;
+  grpc::Status WatchJob(grpc::ServerContext* context, const v1::WatchJobRequest* request,
+                        grpc::ServerWriter<v1::Job>* writer) override;
+  grpc::Status DownloadResult(grpc::ServerContext* context, const v1::DownloadResultRequest* request,
+                              grpc::ServerWriter<v1::ResultChunk>* writer) override;
+
+ private:
+  JobManager& jobs_;
+  const TokenAuth& auth_;
+};
+
+}  // namespace isocorr::server

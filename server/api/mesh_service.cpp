@@ -1,0 +1,82 @@
+#include "api/mesh_service.h"
+
+#include <spdlog/spdlog.h>
+
+#include "api/call_guard.h"
+#include "api/paging.h"
+#include "api/resource_codec.h"
+#include "service_error.h"
+
+namespace isocorr::server {
+using Kind = ServiceError::Kind;
+
+MeshInfo MeshServiceImpl::require(const std::string& name) const {
+  const std::string digest = mesh_digest_from_name(name);
+  if (digest.empty()) throw ServiceError(Kind::kInvalidArgument, "mesh names look like meshes/{sha256} (64 lower-case hex digits), got '" + name + "'");
+  auto info = meshes_.get(digest);
+  if (!info) throw ServiceError(Kind::kNotFound, "no mesh " + name + " on this server; upload it first");
+  return *info;
+}
+
+grpc::Status MeshServiceImpl::UploadMesh(grpc::ServerContext* context,
+                                         grpc::ServerReader<v1::UploadMeshRequest>* reader,
+                                         v1::UploadMeshResponse* response) {
+  return guarded_call("UploadMesh", *context, auth_, [&](const CallInfo& call) {
+    v1::UploadMeshRequest request;
+    if (!reader->Read(&request) || !request.has_header())
+      throw ServiceError(Kind::kInvalidArgument, "the first UploadMesh message must carry the header");
+    const auto& header = request.header();
+    if (auto existing = meshes_.get(header.sha256())) {
+      // Content-addressed: same digest, same bytes. The rest of the stream is not read.
+      *response->mutable_mesh() = mesh_to_proto(*existing, cache_.state_of_mesh(existing->digest));
+      response->set_already_existed(true);
+      return grpc::Status::OK;
+    }
+    auto upload = meshes_.begin_upload(header.sha256(), header.filename(), header.size_bytes());
+    while (reader->Read(&request)) {
+      if (request.has_header()) throw ServiceError(Kind::kInvalidArgument, "only the first message may carry a header");
+      upload->append(request.chunk());
+    }
+    if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "upload cancelled by the client");
+    const MeshInfo info = upload->commit();
+    spdlog::info("[{}] stored mesh {} ({}, {} vertices, {} bytes)", call.request_id, info.digest, info.filename,
+                 info.vertex_count, info.size_bytes);
+    *response->mutable_mesh() = mesh_to_proto(info, cache_.state_of_mesh(info.digest));
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status MeshServiceImpl::GetMesh(grpc::ServerContext* context, const v1::GetMeshRequest* request,
+                                      v1::Mesh* response) {
+  return guarded_call("GetMesh", *context, auth_, [&](const CallInfo&) {
+    const MeshInfo info = require(request->name());
+    *response = mesh_to_proto(info, cache_.state_of_mesh(info.digest));
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status MeshServiceImpl::ListMeshes(grpc::ServerContext* context, const v1::ListMeshesRequest* request,
+                                         v1::ListMeshesResponse* response) {
+  return guarded_call("ListMeshes", *context, auth_, [&](const CallInfo&) {
+    const std::vector<MeshInfo> meshes = meshes_.list();
+    const Page page = page_of(meshes.size(), request->page_size(), request->page_token());
+    for (size_t i = page.begin; i < page.end; ++i)
+      *response->add_meshes() = mesh_to_proto(meshes[i], cache_.state_of_mesh(meshes[i].digest));
+    response->set_next_page_token(page.next_token);
+    return grpc::Status::OK;
+  });
+}
+
+grpc::Status MeshServiceImpl::DeleteMesh(grpc::ServerContext* context, const v1::DeleteMeshRequest* request,
+                                         v1::DeleteMeshResponse*) {
+  return guarded_call("DeleteMesh", *context, auth_, [&](const CallInfo&) {
+    const MeshInfo info = require(request->name());
+    if (jobs_.mesh_in_use(info.digest))
+      throw ServiceError(Kind::kFailedPrecondition,
+                         request->name() + " is used by a queued or running job; cancel the job or wait for it");
+    meshes_.remove(info.digest);
+    return grpc::Status::OK;
+  });
+}
+
+}  // namespace isocorr::server

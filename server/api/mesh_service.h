@@ -1,0 +1,34 @@
+// isocorr.v1.MeshService: translates requests to the mesh store and back.
+#pragma once
+
+#include "api/auth.h"
+#include "isocorr/v1/isocorr.grpc.pb.h"
+#include "jobs/job_manager.h"
+#include "jobs/shape_cache.h"
+#include "storage/mesh_store.h"
+
+namespace isocorr::server {
+
+class MeshServiceImpl final : public v1::MeshService::Service {
+ public:
+  MeshServiceImpl(MeshStore& meshes, ShapeCache& cache, JobManager& jobs, const TokenAuth& auth)
+      : meshes_(meshes), cache_(cache), jobs_(jobs), auth_(auth) {}
+
+  grpc::Status UploadMesh(grpc::ServerContext* context, grpc::ServerReader<v1::UploadMeshRequest>* reader,
+                          v1::UploadMeshResponse* response) override;
+  grpc::Status GetMesh(grpc::ServerContext* context, const v1::GetMeshRequest* request, v1::Mesh* response) override;
+  grpc::Status ListMeshes(grpc::ServerContext* context, const v1::ListMeshesRequest* request,
+                          v1::ListMeshesResponse* response) override;
+  grpc::Status DeleteMesh(grpc::ServerContext* context, const v1::DeleteMeshRequest* request,
+                          v1::DeleteMeshResponse* response) override;
+
+ private:
+  MeshInfo require(const std::string& name) const;
+
+  MeshStore& meshes_;
+  ShapeCache& cache_;
+  JobManager& jobs_;
+  const TokenAuth& auth_;
+};
+
+}  // namespace isocorr::server

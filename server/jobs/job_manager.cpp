@@ -1,0 +1,287 @@
+#include "jobs/job_manager.h"
+
+#include <algorithm>
+#include <random>
+
+#include <spdlog/spdlog.h>
+
+#include "isocorr/util/error.h"
+#include "jobs/job_execution.h"
+#include "service_error.h"
+
+namespace isocorr::server {
+using Kind = ServiceError::Kind;
+
+namespace {
+
+std::string new_job_id() {
+  static std::mutex mutex;
+  static std::mt19937_64 generator{std::random_device{}()};
+  std::lock_guard lock(mutex);
+  static const char* hex = "0123456789abcdef";
+  std::string id;
+  for (uint64_t bits = generator(), i = 0; i < 16; ++i, bits >>= 4) id += hex[bits & 15];
+  return id;
+}
+
+}  // namespace
+
+JobManager::JobManager(JobManagerOptions options, MeshStore& meshes, JobJournal& journal, ShapeCache& cache)
+    : options_(options), meshes_(meshes), journal_(journal), cache_(cache) {}
+
+JobManager::~JobManager() { shutdown(); }
+
+void JobManager::recover_and_start() {
+  std::vector<JobRecord> records = journal_.load_all();
+  std::sort(records.begin(), records.end(),
+            [](const JobRecord& a, const JobRecord& b) { return a.create_time_ms < b.create_time_ms; });
+  std::lock_guard lock(mutex_);
+  for (JobRecord& record : records) {
+    if (!is_final(record.state)) {
+      const bool was_running = record.state == JobState::kRunning;
+      if (was_running && record.attempts >= options_.max_attempts) {
+        record.state = JobState::kFailed;
+        record.error_code = ErrorCode::kAborted;
+        record.error_message = "the server stopped " + std::to_string(record.attempts) +
+                               " times while running this job (crash, kill or out of memory); not run again";
+        record.end_time_ms = now_ms();
+      } else if (!meshes_.get(record.source_digest) || !meshes_.get(record.target_digest)) {
+        record.state = JobState::kFailed;
+        record.error_code = ErrorCode::kNotFound;
+        record.error_message = "a mesh of this job is no longer on the server";
+        record.end_time_ms = now_ms();
+      } else {
+        record.state = JobState::kQueued;
+        record.progress = {};
+        queue_.push_back(record.id);
+      }
+      journal_.save(record);
+      spdlog::info("[job {}] recovered: {}{}", record.id, job_state_name(record.state),
+                   was_running ? " (was running when the server stopped)" : "");
+    }
+    auto slot = std::make_unique<Slot>();
+    slot->record = std::move(record);
+    jobs_.emplace(slot->record.id, std::move(slot));
+  }
+  for (int i = 0; i < std::max(1, options_.workers); ++i) workers_.emplace_back([this] { worker_loop(); });
+}
+
+void JobManager::shutdown() {
+  {
+    std::lock_guard lock(mutex_);
+    if (stopping_ && workers_.empty()) return;
+    stopping_ = true;
+    for (auto& [id, slot] : jobs_)
+      if (slot->record.state == JobState::kRunning) slot->cancel_requested = true;
+  }
+  work_available_.notify_all();
+  changed_.notify_all();
+  for (auto& worker : workers_) worker.join();
+  workers_.clear();
+}
+
+JobRecord JobManager::create(const std::string& source_digest, const std::string& target_digest,
+                             const MatchSettings& settings) {
+  try {
+    settings.validate();
+  } catch (const InputError& e) {
+    throw ServiceError(Kind::kInvalidArgument, std::string("settings: ") + e.what());
+  }
+  for (const std::string* digest : {&source_digest, &target_digest})
+    if (!meshes_.get(*digest))
+      throw ServiceError(Kind::kNotFound, "no mesh meshes/" + *digest + " on this server; upload it first");
+
+  std::lock_guard lock(mutex_);
+  if (stopping_) throw ServiceError(Kind::kUnavailable, "the server is shutting down; retry on its next start");
+  if (static_cast<int>(queue_.size()) >= options_.max_queued_jobs)
+    throw ServiceError(Kind::kResourceExhausted, std::to_string(queue_.size()) +
+                                                     " jobs are queued, the server's limit (--max-queued-jobs); "
+                                                     "retry when some have finished");
+  auto slot = std::make_unique<Slot>();
+  JobRecord& record = slot->record;
+  record.id = new_job_id();
+  record.source_digest = source_digest;
+  record.target_digest = target_digest;
+  record.settings = settings;
+  record.create_time_ms = now_ms();
+  journal_.save(record);
+  queue_.push_back(record.id);
+  const JobRecord created = record;
+  jobs_.emplace(record.id, std::move(slot));
+  work_available_.notify_one();
+  spdlog::info("[job {}] queued: {} -> {} ({} in queue)", created.id, source_digest.substr(0, 12),
+               target_digest.substr(0, 12), queue_.size());
+  return created;
+}
+
+JobManager::Slot& JobManager::slot_locked(const std::string& id) const {
+  auto it = jobs_.find(id);
+  if (it == jobs_.end()) throw ServiceError(Kind::kNotFound, "no job jobs/" + id + " on this server");
+  return *it->second;
+}
+
+void JobManager::publish_locked(Slot& slot) {
+  ++slot.record.version;
+  changed_.notify_all();
+}
+
+JobRecord JobManager::get(const std::string& id) const {
+  std::lock_guard lock(mutex_);
+  return slot_locked(id).record;
+}
+
+std::vector<JobRecord> JobManager::list() const {
+  std::lock_guard lock(mutex_);
+  std::vector<JobRecord> records;
+  for (const auto& [id, slot] : jobs_) records.push_back(slot->record);
+  std::sort(records.begin(), records.end(), [](const JobRecord& a, const JobRecord& b) {
+    return std::tie(a.create_time_ms, a.id) < std::tie(b.create_time_ms, b.id);
+  });
+  return records;
+}
+
+JobRecord JobManager::cancel(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  Slot& slot = slot_locked(id);
+  JobRecord& record = slot.record;
+  if (is_final(record.state))
+    throw ServiceError(Kind::kFailedPrecondition,
+                       "job jobs/" + id + " is already " + job_state_name(record.state) + "; nothing to cancel");
+  slot.cancel_requested = true;
+  if (record.state == JobState::kQueued) {
+    queue_.erase(std::remove(queue_.begin(), queue_.end(), id), queue_.end());
+    JobRecord cancelled = record;
+    cancelled.state = JobState::kCancelled;
+    cancelled.error_code = ErrorCode::kCancelled;
+    cancelled.error_message = "cancelled before it started";
+    cancelled.end_time_ms = now_ms();
+    journal_.save(cancelled);
+    record = cancelled;
+    publish_locked(slot);
+  }
+  spdlog::info("[job {}] cancel requested", id);
+  return record;
+}
+
+JobRecord JobManager::wait_for_change(const std::string& id, uint64_t seen_version,
+                                      std::chrono::steady_clock::time_point deadline) const {
+  std::unique_lock lock(mutex_);
+  Slot& slot = slot_locked(id);
+  changed_.wait_until(lock, deadline, [&] {
+    return slot.record.version != seen_version || is_final(slot.record.state);
+  });
+  return slot.record;
+}
+
+bool JobManager::mesh_in_use(const std::string& digest) const {
+  std::lock_guard lock(mutex_);
+  for (const auto& [id, slot] : jobs_)
+    if (!is_final(slot->record.state) &&
+        (slot->record.source_digest == digest || slot->record.target_digest == digest))
+      return true;
+  return false;
+}
+
+void JobManager::worker_loop() {
+  for (;;) {
+    Slot* slot = nullptr;
+    {
+      std::unique_lock lock(mutex_);
+      work_available_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
+      if (stopping_) return;
+      slot = jobs_.at(queue_.front()).get();
+      queue_.pop_front();
+      JobRecord running = slot->record;
+      running.state = JobState::kRunning;
+      running.attempts += 1;
+      running.start_time_ms = now_ms();
+      running.progress = {"starting", 0, 0, 0};
+      try {
+        journal_.save(running);  // a crash from here on counts as an attempt
+      } catch (const std::exception& e) {
+        // Cannot record the start (disk full?): leave the job queued for the next start.
+        spdlog::error("[job {}] cannot write its journal record: {}", running.id, e.what());
+        continue;
+      }
+      slot->record = running;
+      publish_locked(*slot);
+    }
+    run(*slot);
+  }
+}
+
+void JobManager::run(Slot& slot) {
+  JobRecord job;
+  {
+    std::lock_guard lock(mutex_);
+    job = slot.record;
+  }
+  spdlog::info("[job {}] running (attempt {})", job.id, job.attempts);
+  JobControl control;
+  control.cancel_requested = &slot.cancel_requested;
+  control.on_progress = [&](const Progress& p) {
+    std::lock_guard lock(mutex_);
+    slot.record.progress = {p.stage, p.level, p.levels, p.fraction};
+    publish_locked(slot);
+    spdlog::debug("[job {}] {} level {}/{} {:.0f}%", job.id, p.stage, p.level, p.levels, 100 * p.fraction);
+  };
+
+  JobRecord final_record = job;
+  final_record.end_time_ms = now_ms();
+  try {
+    ExecutedJob executed = execute_match_job(job, meshes_, cache_, control);
+    journal_.save_result(job.id, executed.files);
+    final_record.state = JobState::kSucceeded;
+    final_record.summary = std::move(executed.summary);
+    final_record.progress = {"done", 0, 0, 1.0};
+    final_record.end_time_ms = now_ms();
+    spdlog::info("[job {}] succeeded: D_iso {:.4f}", job.id, final_record.summary.diso);
+  } catch (const Cancelled&) {
+    std::unique_lock lock(mutex_);
+    if (stopping_) {
+      // Graceful shutdown: the job runs again at the next start, and this start does not count.
+      JobRecord requeued = slot.record;
+      requeued.state = JobState::kQueued;
+      requeued.attempts -= 1;
+      requeued.progress = {};
+      journal_.save(requeued);
+      slot.record = requeued;
+      publish_locked(slot);
+      spdlog::info("[job {}] interrupted by shutdown; queued again for the next start", job.id);
+      return;
+    }
+    lock.unlock();
+    final_record.state = JobState::kCancelled;
+    final_record.error_code = ErrorCode::kCancelled;
+    final_record.error_message = "cancelled while running";
+    spdlog::info("[job {}] cancelled", job.id);
+  } catch (const InputError& e) {
+    final_record.state = JobState::kFailed;
+    final_record.error_code = ErrorCode::kInvalidArgument;
+    final_record.error_message = e.what();
+    spdlog::warn("[job {}] failed: {}", job.id, e.what());
+  } catch (const std::exception& e) {
+    final_record.state = JobState::kFailed;
+    final_record.error_code = ErrorCode::kInternal;
+    final_record.error_message = std::string("internal error: ") + e.what();
+    spdlog::error("[job {}] failed: {}", job.id, e.what());
+  }
+  finish(slot, std::move(final_record));
+}
+
+void JobManager::finish(Slot& slot, JobRecord final_record) {
+  std::lock_guard lock(mutex_);
+  final_record.version = slot.record.version;
+  try {
+    journal_.save(final_record);  // durable before anyone can see it done
+  } catch (const std::exception& e) {
+    // Not durable, so not reported as done: the job stays RUNNING in the journal and runs
+    // again after a restart.
+    spdlog::error("[job {}] cannot write its journal record: {}", final_record.id, e.what());
+    return;
+  }
+  slot.record = std::move(final_record);
+  publish_locked(slot);
+}
+
+}  // namespace isocorr::server

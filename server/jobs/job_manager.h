@@ -1,0 +1,83 @@
+// The job queue and its fixed pool of worker threads. Owns every job's state; the journal
+// makes each acknowledged change durable before it is visible to callers.
+//
+// Restart semantics: jobs found QUEUED or RUNNING in the journal are queued again (a
+// RUNNING one was interrupted by a crash or kill) until a job has been started
+// `max_attempts` times, then it is marked FAILED with the reason. A graceful shutdown
+// puts running jobs back to QUEUED without counting the attempt.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "jobs/job_record.h"
+#include "jobs/shape_cache.h"
+#include "storage/job_journal.h"
+#include "storage/mesh_store.h"
+
+namespace isocorr::server {
+
+struct JobManagerOptions {
+  int workers = 1;            // jobs running at once
+  int max_queued_jobs = 64;   // CreateMatchJob beyond this is RESOURCE_EXHAUSTED
+  int max_attempts = 3;       // starts before an interrupted job is given up
+};
+
+class JobManager {
+ public:
+  JobManager(JobManagerOptions options, MeshStore& meshes, JobJournal& journal, ShapeCache& cache);
+  ~JobManager();
+
+  // Reads the journal, re-queues unfinished jobs and starts the workers.
+  void recover_and_start();
+  // Stops the workers; running jobs go back to QUEUED in the journal.
+  void shutdown();
+
+  // Durable when it returns. Throws ServiceError (kNotFound, kInvalidArgument,
+  // kResourceExhausted, kUnavailable while shutting down).
+  JobRecord create(const std::string& source_digest, const std::string& target_digest, const MatchSettings& settings);
+  JobRecord get(const std::string& id) const;  // throws ServiceError(kNotFound)
+  std::vector<JobRecord> list() const;         // oldest first
+  // A queued job ends CANCELLED at once, a running one at the engine's next safe point.
+  JobRecord cancel(const std::string& id);
+  // Returns as soon as the job's version differs from `seen_version` or it is final, or at
+  // `deadline` with the job as it is.
+  JobRecord wait_for_change(const std::string& id, uint64_t seen_version,
+                            std::chrono::steady_clock::time_point deadline) const;
+  bool mesh_in_use(const std::string& digest) const;
+  JobJournal& journal() { return journal_; }
+
+ private:
+  struct Slot {
+    JobRecord record;
+    std::atomic<bool> cancel_requested{false};
+  };
+  void worker_loop();
+  void run(Slot& slot);
+  void finish(Slot& slot, JobRecord final_record);
+  Slot& slot_locked(const std::string& id) const;
+  void publish_locked(Slot& slot);
+
+  const JobManagerOptions options_;
+  MeshStore& meshes_;
+  JobJournal& journal_;
+  ShapeCache& cache_;
+
+  mutable std::mutex mutex_;
+  mutable std::condition_variable changed_;  // some job changed (wakes waiters and watchers)
+  std::condition_variable work_available_;
+  std::deque<std::string> queue_;
+  std::map<std::string, std::unique_ptr<Slot>> jobs_;
+  std::vector<std::thread> workers_;
+  bool stopping_ = false;
+};
+
+}  // namespace isocorr::server

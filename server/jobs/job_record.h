@@ -1,0 +1,51 @@
+// A matching job as the server keeps it: plain data, no protobuf, so the queue, the
+// journal and the workers do not depend on the API's generated code.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "isocorr/matching/matcher.h"
+
+namespace isocorr::server {
+
+enum class JobState { kQueued, kRunning, kSucceeded, kFailed, kCancelled };
+
+const char* job_state_name(JobState state);
+bool is_final(JobState state);
+
+// google.rpc.Code values used for job errors (stable numbers, shared with gRPC).
+enum class ErrorCode : int { kCancelled = 1, kInvalidArgument = 3, kNotFound = 5, kAborted = 10, kInternal = 13 };
+
+struct JobProgressInfo {
+  std::string stage = "queued";
+  int level = 0, levels = 0;
+  double fraction = 0;
+};
+
+struct JobSummary {
+  int source_vertices = 0, target_vertices = 0;
+  double diso = 0, diso_max = 0, dense_orientation = 0;
+  int level0_maps = 0, tracked_maps = 0, chosen_level0_rank = 0;
+  std::vector<StageTiming> timings;
+  std::vector<std::string> notes;
+};
+
+struct JobRecord {
+  std::string id;  // the name is "jobs/" + id
+  JobState state = JobState::kQueued;
+  std::string source_digest, target_digest;
+  MatchSettings settings;
+  JobProgressInfo progress;  // in memory only
+  int64_t create_time_ms = 0, start_time_ms = 0, end_time_ms = 0;
+  int attempts = 0;
+  JobSummary summary;        // when kSucceeded
+  ErrorCode error_code = ErrorCode::kInternal;  // when kFailed or kCancelled
+  std::string error_message;
+  uint64_t version = 0;      // bumped on every change; watchers wait for a new one
+};
+
+int64_t now_ms();
+
+}  // namespace isocorr::server

@@ -1,0 +1,111 @@
+// `isocorr-server`: the gRPC service (isocorr.v1) over the engine, with a durable store
+// under --data-dir, a shared cache of preprocessed meshes and a pool of job workers.
+#include <pthread.h>
+#include <signal.h>
+
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include <CLI/CLI.hpp>
+#include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <grpcpp/grpcpp.h>
+#include <grpcpp/health_check_service_interface.h>
+#include <spdlog/spdlog.h>
+
+#include "api/auth.h"
+#include "api/job_service.h"
+#include "api/mesh_service.h"
+#include "jobs/job_manager.h"
+#include "jobs/shape_cache.h"
+#include "server_options.h"
+#include "storage/durable_file.h"
+#include "storage/job_journal.h"
+#include "storage/mesh_store.h"
+
+namespace isocorr::server {
+namespace {
+
+std::string read_secret(const std::string& path, const char* what) {
+  std::string text = read_whole_file(path);
+  while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.pop_back();
+  if (text.empty()) throw std::runtime_error(std::string(what) + " '" + path + "' is empty");
+  return text;
+}
+
+std::shared_ptr<grpc::ServerCredentials> credentials(const ServerOptions& options) {
+  if (options.tls_cert.empty() != options.tls_key.empty())
+    throw std::runtime_error("--tls-cert and --tls-key go together");
+  if (options.tls_cert.empty()) return grpc::InsecureServerCredentials();
+  grpc::SslServerCredentialsOptions ssl;
+  ssl.pem_key_cert_pairs.push_back({read_whole_file(options.tls_key), read_whole_file(options.tls_cert)});
+  return grpc::SslServerCredentials(ssl);
+}
+
+int run(const ServerOptions& options) {
+  // SIGTERM and SIGINT are taken by sigwait below, so block them before any thread starts.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGTERM);
+  sigaddset(&signals, SIGINT);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  const TokenAuth auth(options.token_file.empty() ? "" : read_secret(options.token_file, "token file"));
+  std::filesystem::create_directories(options.data_dir);
+  MeshStore meshes(options.data_dir, options.max_mesh_bytes);
+  JobJournal journal(options.data_dir);
+  ShapeCache cache(options.cache_bytes);
+  JobManager jobs({options.threads, options.max_queued_jobs, options.max_attempts}, meshes, journal, cache);
+  jobs.recover_and_start();
+
+  MeshServiceImpl mesh_service(meshes, cache, jobs, auth);
+  JobServiceImpl job_service(jobs, auth);
+  grpc::EnableDefaultHealthCheckService(true);
+  // Reflection cannot check our bearer token, so it is offered only when there is none.
+  if (!auth.enabled()) grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  grpc::ServerBuilder builder;
+  int port = 0;
+  builder.AddListeningPort(options.listen, credentials(options), &port);
+  builder.RegisterService(&mesh_service);
+  builder.RegisterService(&job_service);
+  std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
+  if (!server || port == 0) {
+    spdlog::error("cannot listen on {}", options.listen);
+    return 1;
+  }
+  const std::string host = options.listen.substr(0, options.listen.rfind(':'));
+  spdlog::info("isocorr-server listening on {}:{} ({}, {}), data in {}, {} worker(s)", host, port,
+               options.tls_cert.empty() ? "plaintext" : "TLS", auth.enabled() ? "bearer token" : "no auth",
+               options.data_dir, options.threads);
+  if (!options.port_file.empty()) write_file_durably(options.port_file, std::to_string(port) + "\n");
+
+  int signal_number = 0;
+  sigwait(&signals, &signal_number);
+  spdlog::info("signal {}: shutting down (running jobs are kept for the next start)", signal_number);
+  // Stop accepting; calls still open after the grace period (watches, waits) are cancelled.
+  server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(options.shutdown_grace_seconds));
+  jobs.shutdown();
+  spdlog::info("stopped");
+  return 0;
+}
+
+}  // namespace
+}  // namespace isocorr::server
+
+int main(int argc, char** argv) {
+  isocorr::server::ServerOptions options;
+  CLI::App app{"isocorr-server: the isocorr.v1 gRPC service (meshes, matching jobs, results)"};
+  isocorr::server::add_server_flags(app, options);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  spdlog::set_level(spdlog::level::from_str(options.log_level));
+  try {
+    return isocorr::server::run(options);
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+}

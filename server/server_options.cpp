@@ -1,0 +1,27 @@
+#include "server_options.h"
+
+#include <CLI/CLI.hpp>
+
+namespace isocorr::server {
+
+void add_server_flags(CLI::App& app, ServerOptions& o) {
+  app.add_option("--listen", o.listen, "HOST:PORT to listen on (port 0 picks a free one)")->capture_default_str();
+  app.add_option("--data-dir", o.data_dir, "directory of the durable store (meshes, jobs, results)")->capture_default_str();
+  app.add_option("--threads", o.threads, "jobs run at once (worker threads)")->check(CLI::Range(1, 256))->capture_default_str();
+  app.add_option("--cache-bytes", o.cache_bytes, "memory for preprocessed meshes shared by jobs (LRU)")->capture_default_str();
+  app.add_option("--max-mesh-bytes", o.max_mesh_bytes, "largest mesh file accepted by UploadMesh")->capture_default_str();
+  app.add_option("--max-queued-jobs", o.max_queued_jobs, "CreateMatchJob fails with RESOURCE_EXHAUSTED beyond this")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--max-attempts", o.max_attempts, "times a job interrupted by a crash is started before it fails")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--shutdown-grace", o.shutdown_grace_seconds, "seconds open calls get on SIGTERM")->capture_default_str();
+  app.add_option("--token-file", o.token_file, "require 'authorization: Bearer <token>' with the token in this file")
+      ->check(CLI::ExistingFile);
+  app.add_option("--tls-cert", o.tls_cert, "PEM certificate chain (enables TLS)")->check(CLI::ExistingFile);
+  app.add_option("--tls-key", o.tls_key, "PEM private key for --tls-cert")->check(CLI::ExistingFile);
+  app.add_option("--port-file", o.port_file, "write the bound port to this file once listening");
+  app.add_option("--log-level", o.log_level, "trace, debug, info, warn or error")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}))->capture_default_str();
+}
+
+}  // namespace isocorr::server

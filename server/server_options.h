@@ -1,0 +1,29 @@
+// Every setting of isocorr-server, with its default and flag.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace CLI {
+class App;
+}
+
+namespace isocorr::server {
+
+struct ServerOptions {
+  std::string listen = "127.0.0.1:50051";  // loopback unless asked otherwise
+  std::string data_dir = "isocorr-data";
+  int threads = 1;                          // jobs run at once; each uses all cores (engine default)
+  int64_t cache_bytes = int64_t{2} << 30;   // preprocessed meshes kept in memory
+  int64_t max_mesh_bytes = int64_t{512} << 20;
+  int max_queued_jobs = 64;
+  int max_attempts = 3;                     // starts of a job interrupted by crashes before it fails
+  int shutdown_grace_seconds = 5;
+  std::string token_file, tls_cert, tls_key;
+  std::string port_file;                    // written with the bound port (for --listen HOST:0)
+  std::string log_level = "info";
+};
+
+void add_server_flags(CLI::App& app, ServerOptions& options);
+
+}  // namespace isocorr::server

@@ -1,0 +1,49 @@
+// The real isocorr-server as a child process on a free loopback port, and the real
+// isocorr client run against it. For the service integration tests.
+#pragma once
+
+#include <sys/types.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace isocorr::testing {
+
+struct CommandRun {
+  int exit_code = -1;
+  std::string out;  // stdout only (JSON with --json); stderr goes to the log
+  std::string err;
+};
+
+// Runs a shell command line; stdout and stderr are kept apart.
+CommandRun run_command(const std::string& command);
+
+// Starts `command` through /bin/sh (exec'd, so the pid is the command's) with output to
+// `log`; `wait_for_exit` returns its exit code.
+pid_t spawn_command(const std::string& command, const std::filesystem::path& log);
+int wait_for_exit(pid_t pid);
+
+class ServerProcess {
+ public:
+  // Starts isocorr-server --listen 127.0.0.1:0 --data-dir `data_dir` plus `extra` flags and
+  // waits (bounded) until it has written its port.
+  ServerProcess(std::filesystem::path data_dir, std::vector<std::string> extra = {});
+  ~ServerProcess();
+
+  std::string address() const { return "127.0.0.1:" + std::to_string(port_); }
+  bool running() const { return pid_ > 0; }
+  const std::filesystem::path& log_path() const { return log_; }
+  // The client with --server set, then `arguments`.
+  CommandRun client(const std::string& arguments) const;
+
+  void kill_hard();   // SIGKILL, as a crash would
+  int terminate();    // SIGTERM; returns the exit status
+
+ private:
+  std::filesystem::path data_dir_, log_;
+  pid_t pid_ = -1;
+  int port_ = 0;
+};
+
+}  // namespace isocorr::testing

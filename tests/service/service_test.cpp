@@ -1,0 +1,364 @@
+// isocorr-server driven by the isocorr client, both the real binaries, on loopback:
+// uploads (one above gRPC's 4 MiB message limit), duplicates, match, watch, cancel,
+// download, kill -9 and recovery, auth, and the status codes of the API.
+#include <signal.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "isocorr/mesh/mesh_io.h"
+#include "isocorr/mesh/procedural_meshes.h"
+#include "server_process.h"
+
+namespace isocorr::testing {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// The last JSON object a command printed (watch prints one per line).
+json last_json(const CommandRun& run) {
+  std::istringstream lines(run.out);
+  json last = json::object();
+  for (std::string line; std::getline(lines, line);)
+    if (!line.empty() && line[0] == '{') last = json::parse(line);
+  return last;
+}
+
+std::string error_code(const CommandRun& run) { return last_json(run).value("error", json::object()).value("code", ""); }
+
+std::vector<int> read_ints(const fs::path& path) {
+  std::vector<int> values;
+  std::ifstream in(path);
+  for (int v; in >> v;) values.push_back(v);
+  return values;
+}
+
+void write_ascii_off(const fs::path& path, const TriangleMesh& mesh) {
+  std::ofstream out(path);
+  out << "OFF\n" << mesh.num_vertices() << ' ' << mesh.num_faces() << " 0\n";
+  out.precision(17);
+  for (const Vec3& p : mesh.vertices) out << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
+  for (const Face& f : mesh.faces) out << "3 " << f[0] << ' ' << f[1] << ' ' << f[2] << '\n';
+}
+
+class Service : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(fs::temp_directory_path() / ("isocorr_service_test_" + std::to_string(getpid())));
+    fs::remove_all(*dir_);
+    fs::create_directories(*dir_);
+    // A small asymmetric pair with a known answer: matches in seconds.
+    const TriangleMesh creature = limbed_blob(3);
+    const RenumberedCopy moved = rotated_scaled_renumbered(creature, 1.3, 7);
+    write_ply((*dir_ / "creature.ply").string(), creature);
+    write_ply((*dir_ / "creature_moved.ply").string(), moved.mesh);
+    *truth_ = moved.permutation;
+    // Above gRPC's 4 MiB default message size, so it must travel in chunks; and slow to
+    // preprocess, so jobs on it are still running when the tests cancel or kill them.
+    write_ascii_off(*dir_ / "sphere.off", icosphere(7));
+    std::ofstream(*dir_ / "broken.off") << "OFF\n3 1 0\n0 0 0\n1 0 0\n";
+    std::ofstream(*dir_ / "token") << "s3cret-token\n";
+    std::ofstream(*dir_ / "wrong_token") << "guess\n";
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(*dir_);
+    delete dir_;
+  }
+  static fs::path path(const std::string& name) { return *dir_ / name; }
+  // A fresh data directory per test.
+  fs::path data_dir() const {
+    return *dir_ / (std::string("data_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  }
+
+  // Polls (bounded) until the job is RUNNING; the job must not finish meanwhile.
+  static void wait_until_running(const ServerProcess& server, const std::string& job) {
+    for (int i = 0; i < 600; ++i) {
+      const json status = last_json(server.client("status " + job + " --json"));
+      if (status.value("state", "") == "RUNNING") return;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    FAIL() << job << " never started";
+  }
+
+  static fs::path* dir_;
+  static std::vector<int>* truth_;
+};
+fs::path* Service::dir_ = nullptr;
+std::vector<int>* Service::truth_ = new std::vector<int>;
+
+TEST_F(Service, UploadsLargeMeshInChunksAndDuplicateIsNoOp) {
+  ASSERT_GT(fs::file_size(path("sphere.off")), 4u << 20);
+  ServerProcess server(data_dir());
+  const CommandRun first = server.client("upload " + path("sphere.off").string() + " --json");
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  const json uploaded = last_json(first);
+  EXPECT_TRUE(uploaded["uploaded"].get<bool>());
+  EXPECT_EQ(uploaded["mesh"]["vertex_count"], 163842);
+  EXPECT_EQ(uploaded["mesh"]["size_bytes"], std::to_string(fs::file_size(path("sphere.off"))));  // int64 is a JSON string
+  const std::string name = uploaded["mesh"]["name"];
+
+  const CommandRun again = server.client("upload " + path("sphere.off").string() + " --json");
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_FALSE(last_json(again)["uploaded"].get<bool>());
+  EXPECT_EQ(last_json(again)["mesh"]["name"], name);
+
+  const CommandRun listed = server.client("list meshes --json");
+  ASSERT_EQ(listed.exit_code, 0);
+  EXPECT_EQ(last_json(listed)["name"], name);
+  const CommandRun status = server.client("status " + name + " --json");
+  EXPECT_EQ(last_json(status)["preprocessing_state"], "NOT_PREPROCESSED");
+}
+
+TEST_F(Service, RemoteMatchWritesMapsReportAndColouredMeshes) {
+  ServerProcess server(data_dir());
+  const fs::path map = data_dir() / "out.map", reverse = data_dir() / "out.rmap", report = data_dir() / "report.json";
+  // --server after the subcommand here (ServerProcess::client puts it before).
+  const CommandRun match = run_command(std::string(ISOCORR_CLI_PATH) + " match " + path("creature.ply").string() + " " +
+                                       path("creature_moved.ply").string() + " -o " + map.string() + " --reverse-out " +
+                                       reverse.string() + " --report " + report.string() + " --colour-ply " +
+                                       (data_dir() / "view_").string() + " --server " + server.address());
+  ASSERT_EQ(match.exit_code, 0) << match.err;
+  const std::vector<int> forward = read_ints(map);
+  ASSERT_EQ(forward.size(), truth_->size());
+  EXPECT_EQ(read_ints(reverse).size(), truth_->size());
+  int exact = 0;
+  for (size_t i = 0; i < forward.size(); ++i) exact += forward[i] == (*truth_)[i];
+  EXPECT_GE(exact, 0.9 * forward.size());
+  std::ifstream in(report);
+  EXPECT_TRUE(json::parse(in).contains("final"));
+  EXPECT_EQ(parse_mesh(std::string(std::istreambuf_iterator<char>(std::ifstream(data_dir() / "view_target.ply").rdbuf()), {}),
+                       "view_target.ply").mesh.num_vertices(),
+            static_cast<int>(truth_->size()));
+
+  // The second match finds both meshes on the server and their preprocessing in the cache.
+  const CommandRun again = server.client("match " + path("creature.ply").string() + " " +
+                                         path("creature_moved.ply").string() + " -o " + map.string());
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_NE(again.err.find("already on the server"), std::string::npos) << again.err;
+  const CommandRun meshes = server.client("list meshes --json");
+  EXPECT_NE(meshes.out.find("PREPROCESSED"), std::string::npos) << meshes.out;
+}
+
+TEST_F(Service, SubmitWatchWaitDownload) {
+  ServerProcess server(data_dir());
+  const CommandRun submit =
+      server.client("submit " + path("creature.ply").string() + " " + path("creature_moved.ply").string() + " --json");
+  ASSERT_EQ(submit.exit_code, 0) << submit.err;
+  const json created = last_json(submit);
+  const std::string job = created["name"];
+  EXPECT_FALSE(created["done"].get<bool>());
+
+  const CommandRun watch = server.client("watch " + job + " --json");
+  ASSERT_EQ(watch.exit_code, 0) << watch.err;
+  const json final_state = last_json(watch);
+  EXPECT_TRUE(final_state["done"].get<bool>());
+  EXPECT_EQ(final_state["state"], "SUCCEEDED");
+  EXPECT_EQ(final_state["result"]["source_vertex_count"].get<int>(), static_cast<int>(truth_->size()));
+  EXPECT_NE(watch.out.find("\"stage\":\"tracking\""), std::string::npos);  // progress was pushed
+
+  const CommandRun wait = server.client("wait " + job + " --json");
+  EXPECT_EQ(wait.exit_code, 0);
+  EXPECT_EQ(last_json(wait)["state"], "SUCCEEDED");
+
+  const fs::path map = data_dir() / "d.map", confidence = data_dir() / "d.conf", report = data_dir() / "d.json";
+  const CommandRun download = server.client("download " + job + " -o " + map.string() + " --confidence-out " +
+                                            confidence.string() + " --report " + report.string());
+  ASSERT_EQ(download.exit_code, 0) << download.err;
+  EXPECT_EQ(read_ints(map).size(), truth_->size());
+  std::ifstream conf(confidence);
+  size_t lines = 0;
+  for (std::string line; std::getline(conf, line);) ++lines;
+  EXPECT_EQ(lines, truth_->size());
+  EXPECT_TRUE(fs::file_size(report) > 0);
+
+  const CommandRun list = server.client("list --json");
+  EXPECT_EQ(last_json(list)["name"], job);
+}
+
+TEST_F(Service, CancelEndsJobCancelled) {
+  ServerProcess server(data_dir());
+  const std::string sphere = path("sphere.off").string();
+  const CommandRun submit = server.client("submit " + sphere + " " + sphere + " --json");
+  ASSERT_EQ(submit.exit_code, 0) << submit.err;
+  const std::string job = last_json(submit)["name"];
+  wait_until_running(server, job);
+  ASSERT_EQ(server.client("cancel " + job).exit_code, 0);
+  const CommandRun wait = server.client("wait " + job + " --json");
+  EXPECT_EQ(wait.exit_code, 4);
+  EXPECT_EQ(last_json(wait)["state"], "CANCELLED");
+  EXPECT_EQ(last_json(wait)["error"]["code"], 1);  // google.rpc.Code CANCELLED
+
+  const CommandRun again = server.client("cancel " + job + " --json");
+  EXPECT_EQ(again.exit_code, 2);
+  EXPECT_EQ(error_code(again), "FAILED_PRECONDITION");
+  const CommandRun download = server.client("download " + job + " -o x.map --json");
+  EXPECT_EQ(error_code(download), "FAILED_PRECONDITION");
+}
+
+TEST_F(Service, ErrorsHaveTheirStatusCodes) {
+  ServerProcess server(data_dir(), {"--max-queued-jobs", "1"});
+  const CommandRun unknown_job = server.client("status jobs/0123456789abcdef --json");
+  EXPECT_EQ(unknown_job.exit_code, 2);
+  EXPECT_EQ(error_code(unknown_job), "NOT_FOUND");
+
+  const CommandRun unknown_mesh =
+      server.client("submit meshes/" + std::string(64, 'a') + " meshes/" + std::string(64, 'b') + " --json");
+  EXPECT_EQ(error_code(unknown_mesh), "NOT_FOUND");
+
+  const CommandRun broken = server.client("upload " + path("broken.off").string() + " --json");
+  EXPECT_EQ(broken.exit_code, 2);
+  EXPECT_EQ(error_code(broken), "INVALID_ARGUMENT");
+  EXPECT_NE(last_json(broken)["error"]["message"].get<std::string>().find("not a usable mesh"), std::string::npos);
+
+  const CommandRun bad_name = server.client("status meshes/xyz --json");
+  EXPECT_EQ(error_code(bad_name), "INVALID_ARGUMENT");
+
+  const CommandRun bad_setting = server.client("submit " + path("creature.ply").string() + " " +
+                                               path("creature.ply").string() + " --level0-samples 2 --json");
+  EXPECT_EQ(error_code(bad_setting), "INVALID_ARGUMENT");
+
+  // One queued job at most: of three submissions, the second or third finds the queue full.
+  const std::string sphere = path("sphere.off").string();
+  std::vector<std::string> jobs;
+  int exhausted = 0;
+  for (int i = 0; i < 3; ++i) {
+    const CommandRun submit = server.client("submit " + sphere + " " + sphere + " --json");
+    if (submit.exit_code == 0) jobs.push_back(last_json(submit)["name"]);
+    exhausted += error_code(submit) == "RESOURCE_EXHAUSTED";
+  }
+  EXPECT_GE(exhausted, 1);
+  for (const auto& job : jobs) server.client("cancel " + job);
+
+  const CommandRun in_use_or_gone = server.client("delete meshes/" + std::string(64, 'c') + " --json");
+  EXPECT_EQ(error_code(in_use_or_gone), "NOT_FOUND");
+
+  ServerProcess small(data_dir() / "small", {"--max-mesh-bytes", "1000"});
+  const CommandRun too_big = small.client("upload " + sphere + " --json");
+  EXPECT_EQ(error_code(too_big), "RESOURCE_EXHAUSTED");
+
+  const int port = std::stoi(server.address().substr(server.address().rfind(':') + 1));
+  server.kill_hard();
+  const CommandRun unavailable =
+      run_command(std::string(ISOCORR_CLI_PATH) + " health --server 127.0.0.1:" + std::to_string(port));
+  EXPECT_EQ(unavailable.exit_code, 3);
+}
+
+TEST_F(Service, TokenRequiredForEverythingButHealth) {
+  ServerProcess server(data_dir(), {"--token-file", path("token").string()});
+  EXPECT_EQ(server.client("health").exit_code, 0);
+  const CommandRun anonymous = server.client("list --json");
+  EXPECT_EQ(anonymous.exit_code, 5);
+  EXPECT_EQ(error_code(anonymous), "UNAUTHENTICATED");
+  const CommandRun wrong = server.client("--token-file " + path("wrong_token").string() + " list --json");
+  EXPECT_EQ(error_code(wrong), "UNAUTHENTICATED");
+  const CommandRun upload = server.client("upload " + path("creature.ply").string() + " --json");
+  EXPECT_EQ(error_code(upload), "UNAUTHENTICATED");
+  const CommandRun right = server.client("list --token-file " + path("token").string());
+  EXPECT_EQ(right.exit_code, 0) << right.err;
+
+  ServerProcess open(data_dir() / "open");
+  EXPECT_EQ(open.client("list").exit_code, 0);
+}
+
+TEST_F(Service, KillNineKeepsMeshesAndResultsAndRequeuesTheRunningJob) {
+  std::string finished, interrupted;
+  {
+    ServerProcess server(data_dir());
+    const CommandRun done = server.client("submit " + path("creature.ply").string() + " " +
+                                          path("creature_moved.ply").string() + " --json");
+    ASSERT_EQ(done.exit_code, 0) << done.err;
+    finished = last_json(done)["name"];
+    ASSERT_EQ(server.client("wait " + finished).exit_code, 0);
+    const std::string sphere = path("sphere.off").string();
+    const CommandRun running = server.client("submit " + sphere + " " + sphere + " --json");
+    ASSERT_EQ(running.exit_code, 0) << running.err;
+    interrupted = last_json(running)["name"];
+    wait_until_running(server, interrupted);
+    server.kill_hard();
+  }
+  ServerProcess restarted(data_dir());
+  const CommandRun meshes = restarted.client("list meshes --json");
+  EXPECT_EQ(std::count(meshes.out.begin(), meshes.out.end(), '\n'), 3) << meshes.out;
+
+  const CommandRun old = restarted.client("status " + finished + " --json");
+  EXPECT_EQ(last_json(old)["state"], "SUCCEEDED");
+  const fs::path map = data_dir() / "after_restart.map";
+  ASSERT_EQ(restarted.client("download " + finished + " -o " + map.string()).exit_code, 0);
+  EXPECT_EQ(read_ints(map).size(), truth_->size());
+
+  const json again = last_json(restarted.client("status " + interrupted + " --json"));
+  EXPECT_TRUE(again["state"] == "QUEUED" || again["state"] == "RUNNING") << again.dump();
+  EXPECT_EQ(again["attempts"].get<int>() >= 1, true);
+  // SIGTERM while it runs: a clean exit, and the job is queued again without losing an attempt.
+  wait_until_running(restarted, interrupted);
+  const int attempts = last_json(restarted.client("status " + interrupted + " --json"))["attempts"];
+  EXPECT_EQ(attempts, 2);
+  EXPECT_EQ(restarted.terminate(), 0);
+
+  ServerProcess third(data_dir());
+  const json queued = last_json(third.client("status " + interrupted + " --json"));
+  EXPECT_TRUE(queued["state"] == "QUEUED" || queued["state"] == "RUNNING") << queued.dump();
+  EXPECT_LE(queued["attempts"].get<int>(), attempts);
+  ASSERT_EQ(third.client("cancel " + interrupted).exit_code, 0);
+  EXPECT_EQ(last_json(third.client("wait " + interrupted + " --json"))["state"], "CANCELLED");
+}
+
+// Ctrl-C in `isocorr match --server` cancels the job on the server.
+TEST_F(Service, InterruptedRemoteMatchCancelsTheJob) {
+  ServerProcess server(data_dir());
+  const std::string sphere = path("sphere.off").string();
+  const pid_t client = spawn_command(std::string(ISOCORR_CLI_PATH) + " match " + sphere + " " + sphere + " -o " +
+                                         (data_dir() / "never.map").string() + " --server " + server.address(),
+                                     data_dir() / "client.log");
+  std::string job;
+  for (int i = 0; i < 600 && job.empty(); ++i) {
+    const json listed = last_json(server.client("list --json"));
+    if (listed.value("state", "") == "RUNNING") job = listed["name"];
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_FALSE(job.empty()) << "the client's job never ran";
+  kill(client, SIGINT);
+  EXPECT_EQ(wait_for_exit(client), 4);
+  EXPECT_EQ(last_json(server.client("status " + job + " --json"))["state"], "CANCELLED");
+  EXPECT_FALSE(fs::exists(data_dir() / "never.map"));
+}
+
+// TLS with a self-signed certificate for 127.0.0.1, and a token over it.
+TEST_F(Service, TlsWithToken) {
+  const fs::path cert = data_dir().string() + ".crt", key = data_dir().string() + ".key";
+  const CommandRun made = run_command("openssl req -x509 -newkey rsa:2048 -nodes -days 1 -subj /CN=127.0.0.1"
+                                      " -addext subjectAltName=IP:127.0.0.1 -keyout " + key.string() +
+                                      " -out " + cert.string());
+  ASSERT_EQ(made.exit_code, 0) << made.err;
+  ServerProcess server(data_dir(), {"--tls-cert", cert.string(), "--tls-key", key.string(), "--token-file",
+                                    path("token").string()});
+  EXPECT_EQ(server.client("health --tls-ca " + cert.string()).exit_code, 0);
+  EXPECT_EQ(server.client("list --tls-ca " + cert.string() + " --token-file " + path("token").string()).exit_code, 0);
+  EXPECT_EQ(server.client("list --tls-ca " + cert.string()).exit_code, 5);
+  EXPECT_EQ(server.client("health").exit_code, 3);  // plaintext client, TLS server
+}
+
+// Another gRPC implementation (Python's) with stubs generated from the .proto, reflection.
+TEST_F(Service, PythonGrpcClientUsesTheApi) {
+  ServerProcess server(data_dir());
+  std::string command = std::string("/usr/bin/python3 ") + ISOCORR_SERVICE_TEST_DIR + "/python_client_test.py" +
+                        " --server " + server.address() + " --mesh " + path("creature.ply").string() +
+                        " --target " + path("creature_moved.ply").string() + " --work " +
+                        (data_dir() / "python").string();
+  for (const char* dir : {ISOCORR_PROTO_DIR, ISOCORR_GRPC_PROTO_DIR, ISOCORR_GOOGLEAPIS_PROTO_DIR})
+    command += std::string(" --proto-path ") + dir;
+  const CommandRun run = run_command(command);
+  EXPECT_EQ(run.exit_code, 0) << run.out << run.err;
+}
+
+}  // namespace
+}  // namespace isocorr::testing
