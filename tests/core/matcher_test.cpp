@@ -93,3 +93,19 @@ TEST(MatcherSettings, OutOfRangeSettingsAreInputErrors) {
 
 }  // namespace
 }  // namespace isocorr
+
+namespace isocorr {
+namespace {
+
+// A mesh matched to itself: every distortion is zero, which must not empty the anchors.
+TEST(MatcherSelfMatch, IdentityComesBack) {
+  const TriangleMesh blob = limbed_blob(3);
+  const MatchResult result = match_meshes(blob, blob, MatchSettings{});
+  int exact = 0;
+  for (size_t v = 0; v < result.forward.size(); ++v) exact += result.forward[v] == static_cast<int>(v);
+  EXPECT_GE(exact, 0.99 * result.forward.size());
+  EXPECT_LT(result.diso, 1e-3);
+}
+
+}  // namespace
+}  // namespace isocorr

@@ -117,12 +117,15 @@ std::vector<SamplePair> drop_least_consistent(const PreprocessedShape& source, c
       if (q != p)
         distortion[p] += std::abs(source.field(pairs[q].source_sample, sv) - target.field(pairs[q].target_sample, tv));
   }
-  std::vector<double> sorted = distortion;
-  std::nth_element(sorted.begin(), sorted.end() - dropped, sorted.end());
-  const double limit = sorted[count - dropped];
+  // Drop by rank, not by value: on a perfect match every distortion is zero.
+  std::vector<size_t> order(count);
+  for (size_t p = 0; p < count; ++p) order[p] = p;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return distortion[a] < distortion[b]; });
+  std::vector<unsigned char> keep(count, 0);
+  for (size_t r = 0; r < count - dropped; ++r) keep[order[r]] = 1;
   std::vector<SamplePair> kept;
   for (size_t p = 0; p < count; ++p)
-    if (distortion[p] < limit) kept.push_back(pairs[p]);
+    if (keep[p]) kept.push_back(pairs[p]);
   return kept;
 }
 
