@@ -16,6 +16,8 @@ void add_match_settings_flags(CLI::App& app, MatchSettings& s, std::string& sele
       ->group(group)->check(CLI::IsMember({"orientation", "least-diso"}))->capture_default_str();
   app.add_option("--orientation-threshold", s.orientation_threshold, "tracked maps keeping fewer triangles' handedness are mirrored")->group(group)->capture_default_str();
   app.add_option("--orientation-margin", s.orientation_margin, "tracked maps this close to the best orientation compete on D_iso")->group(group)->capture_default_str();
+  app.add_option("--orientation-weight", s.orientation_weight, "among those, the choice minimises D_iso - weight * orientation agreement")->group(group)->capture_default_str();
+  app.add_option("--handedness-guard", s.tracking.handedness_guard, "tracking only accepts images that keep the handedness of nearby pairs (true/false)")->group(group)->capture_default_str();
   app.add_option("--anchor-cap", s.tracking.anchor_cap, "anchors used for d_iso while tracking")->group(group)->capture_default_str();
   app.add_option("--trim-fraction", s.tracking.trim_fraction, "share of the worst d_iso terms ignored when matching a sample")->group(group)->capture_default_str();
   app.add_option("--window-factor", s.tracking.window_factor, "search window around the parent's image, in parent distances")->group(group)->capture_default_str();

@@ -12,6 +12,8 @@ namespace isocorr::api {
   X(max_tracked, s.max_tracked)                             \
   X(orientation_threshold, s.orientation_threshold)         \
   X(orientation_margin, s.orientation_margin)               \
+  X(orientation_weight, s.orientation_weight)               \
+  X(handedness_guard, s.tracking.handedness_guard)          \
   X(anchor_cap, s.tracking.anchor_cap)                      \
   X(trim_fraction, s.tracking.trim_fraction)                \
   X(window_factor, s.tracking.window_factor)                \

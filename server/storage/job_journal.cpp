@@ -24,6 +24,8 @@ json settings_to_json(const MatchSettings& s) {
           {"selection", s.selection == SelectionRule::kLeastDistortion ? "least-diso" : "orientation"},
           {"orientation_threshold", s.orientation_threshold},
           {"orientation_margin", s.orientation_margin},
+          {"orientation_weight", s.orientation_weight},
+          {"handedness_guard", s.tracking.handedness_guard},
           {"anchor_cap", s.tracking.anchor_cap},
           {"trim_fraction", s.tracking.trim_fraction},
           {"window_factor", s.tracking.window_factor},
@@ -54,6 +56,8 @@ MatchSettings settings_from_json(const json& j) {
   if (j.value("selection", "orientation") == "least-diso") s.selection = SelectionRule::kLeastDistortion;
   read("orientation_threshold", s.orientation_threshold);
   read("orientation_margin", s.orientation_margin);
+  read("orientation_weight", s.orientation_weight);
+  read("handedness_guard", s.tracking.handedness_guard);
   read("anchor_cap", s.tracking.anchor_cap);
   read("trim_fraction", s.tracking.trim_fraction);
   read("window_factor", s.tracking.window_factor);

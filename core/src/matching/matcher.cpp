@@ -34,16 +34,20 @@ Eigen::MatrixXd sample_distances(const PreprocessedShape& shape, int count) {
 
 // Orientation rule: a mirrored map, or one with a limb pair swapped, reverses the
 // handedness of part of the surface, so only maps whose orientation agreement is within
-// `orientation_margin` of the best one compete, and among them the least D_iso wins.
+// `orientation_margin` of the best one compete. Among them D_iso decides, lowered by
+// `orientation_weight` per unit of agreement: a human's front/back-turned map keeps
+// orientation too and comes within a few per cent of the true map's D_iso.
 int choose_tracked(const std::vector<TrackedMap>& tracked, const MatchSettings& settings) {
   double best_orientation = 0;
   for (const auto& t : tracked) best_orientation = std::max(best_orientation, t.orientation);
   const bool use_orientation = settings.selection == SelectionRule::kOrientationThenDistortion &&
                                best_orientation >= settings.orientation_threshold;
+  const double weight = use_orientation ? settings.orientation_weight : 0.0;
+  auto score = [&](const TrackedMap& t) { return t.diso - weight * t.orientation; };
   int chosen = -1;
   for (int i = 0; i < static_cast<int>(tracked.size()); ++i) {
     if (use_orientation && tracked[i].orientation < best_orientation - settings.orientation_margin) continue;
-    if (chosen < 0 || tracked[i].diso < tracked[chosen].diso) chosen = i;
+    if (chosen < 0 || score(tracked[i]) < score(tracked[chosen])) chosen = i;
   }
   return chosen;
 }
@@ -65,6 +69,8 @@ void MatchSettings::validate() const {
     throw InputError("orientation threshold must lie in [0, 1]");
   if (orientation_margin < 0 || orientation_margin > 1)
     throw InputError("orientation margin must lie in [0, 1]");
+  if (orientation_weight < 0 || orientation_weight > 1)
+    throw InputError("orientation weight must lie in [0, 1]");
   if (tracking.anchor_cap < 3) throw InputError("anchor cap must be at least 3");
   if (tracking.trim_fraction < 0 || tracking.trim_fraction >= 0.9)
     throw InputError("trim fraction must lie in [0, 0.9)");

@@ -67,6 +67,50 @@ double orientation_agreement(const PreprocessedShape& source, const Preprocessed
   return total ? static_cast<double>(agree) / total : 0.5;
 }
 
+HandednessGuard::HandednessGuard(const PreprocessedShape& source, const PreprocessedShape& target,
+                                 const std::vector<SamplePair>& matched, int source_vertex, float min_distance)
+    : target_(target) {
+  constexpr size_t kNearest = 8;      // corners are drawn from this many nearest matched samples
+  constexpr size_t kTriangles = 3;    // best-spread triangles kept (an odd number: a clear vote)
+  constexpr double kMinSpread = 0.3;  // |sine| of the corner angle; flatter triangles are unstable
+  std::vector<std::pair<float, int>> near;
+  for (int i = 0; i < static_cast<int>(matched.size()); ++i) {
+    const float d = source.field(matched[i].source_sample, source_vertex);
+    if (d >= min_distance) near.push_back({d, i});
+  }
+  const size_t count = std::min(near.size(), kNearest);
+  std::partial_sort(near.begin(), near.begin() + count, near.end());
+  const auto& sp = source.mesh().vertices;
+  const Vec3& a = sp[source_vertex];
+  const Vec3& n = source.normals()[source_vertex];
+  struct Candidate { double spread; int b, c; bool positive; };
+  std::vector<Candidate> candidates;
+  for (size_t i = 0; i < count; ++i)
+    for (size_t j = i + 1; j < count; ++j) {
+      const Vec3& b = sp[source.sample_vertex(matched[near[i].second].source_sample)];
+      const Vec3& c = sp[source.sample_vertex(matched[near[j].second].source_sample)];
+      const double h = handedness(a, b, c, n);
+      const double spread = std::abs(h) / ((b - a).norm() * (c - a).norm() + 1e-30);
+      if (spread >= kMinSpread) candidates.push_back({spread, near[i].second, near[j].second, h > 0});
+    }
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const Candidate& x, const Candidate& y) { return x.spread > y.spread; });
+  auto image = [&](const SamplePair& p) {
+    return p.target_vertex >= 0 ? p.target_vertex : target.sample_vertex(p.target_sample);
+  };
+  for (size_t k = 0; k < std::min(candidates.size(), kTriangles); ++k)
+    triangles_.push_back({image(matched[candidates[k].b]), image(matched[candidates[k].c]), candidates[k].positive});
+}
+
+bool HandednessGuard::accepts(int target_vertex) const {
+  const auto& tp = target_.mesh().vertices;
+  const Vec3& n = target_.normals()[target_vertex];
+  int agree = 0;
+  for (const Triangle& t : triangles_)
+    agree += (handedness(tp[target_vertex], tp[t.target_b], tp[t.target_c], n) > 0) == t.positive;
+  return 2 * agree >= static_cast<int>(triangles_.size());
+}
+
 double dense_orientation_agreement(const TriangleMesh& source, const std::vector<Vec3>& source_normals,
                                    const TriangleMesh& target, const std::vector<Vec3>& target_normals,
                                    const std::vector<int>& target_of) {

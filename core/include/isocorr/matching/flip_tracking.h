@@ -24,6 +24,7 @@ struct TrackingOptions {
   double trim_fraction = 0.2;  // share of the largest d_iso terms ignored when matching a
                                // sample (robust to misplaced anchors and non-isometric parts)
   bool pool_all_levels = true;  // offer every target sample at every level
+  bool handedness_guard = true;  // a new pair must keep the handedness of nearby pairs
   int threads = 0;
 };
 
@@ -45,7 +46,8 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
                      const Level0Map& map, int rank, const TrackingOptions& options,
                      const JobControl& control);
 
-// D_iso of a set of sample pairs: mean over pairs of d_iso against all the others.
+// D_iso of a set of sample pairs: mean over pairs of d_iso against all the others, each
+// pair at its vertex-accurate image where it has one.
 double sample_map_diso(const PreprocessedShape& source, const PreprocessedShape& target,
                        const std::vector<SamplePair>& pairs);
 

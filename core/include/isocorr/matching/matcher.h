@@ -36,6 +36,7 @@ struct MatchSettings {
   SelectionRule selection = SelectionRule::kOrientationThenDistortion;
   double orientation_threshold = 0.5;  // below this, no tracked map counts as orientation-preserving
   double orientation_margin = 0.1;     // maps this close to the best orientation compete on D_iso
+  double orientation_weight = 0.025;   // ... on D_iso - weight * orientation agreement
   TrackingOptions tracking;
   DenseOptions dense;
   int threads = 0;                  // 0 = all cores; results do not depend on it

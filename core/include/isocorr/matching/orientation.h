@@ -16,6 +16,26 @@ namespace isocorr {
 double orientation_agreement(const PreprocessedShape& source, const PreprocessedShape& target,
                              const std::vector<SamplePair>& pairs);
 
+// The same test for one new pair while tracking. Where extremities are the only level-0
+// samples, a map and its front/back mirror (chest to back, toes to heels) agree at level 0
+// and stay close in D_iso, so a tracker choosing by D_iso alone drifts into the mirror on
+// part of the body. The guard takes triangles formed by a new source sample and two
+// matched samples near it; a target vertex passes when most of them keep handedness.
+class HandednessGuard {
+ public:
+  HandednessGuard(const PreprocessedShape& source, const PreprocessedShape& target,
+                  const std::vector<SamplePair>& matched, int source_vertex, float min_distance);
+  bool accepts(int target_vertex) const;
+
+ private:
+  struct Triangle {
+    int target_b, target_c;  // images of the two matched corners
+    bool positive;           // handedness on the source
+  };
+  const PreprocessedShape& target_;
+  std::vector<Triangle> triangles_;
+};
+
 // Over a dense vertex map (clean-mesh numbering): the fraction of source faces whose three
 // images span a triangle of the same handedness (faces mapped to a point are skipped).
 double dense_orientation_agreement(const TriangleMesh& source, const std::vector<Vec3>& source_normals,
