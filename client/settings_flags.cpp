@@ -22,7 +22,8 @@ void add_match_settings_flags(CLI::App& app, MatchSettings& s, std::string& sele
   app.add_option("--trim-fraction", s.tracking.trim_fraction, "share of the worst d_iso terms ignored when matching a sample")->group(group)->capture_default_str();
   app.add_option("--window-factor", s.tracking.window_factor, "search window around the parent's image, in parent distances")->group(group)->capture_default_str();
   app.add_option("--dense-anchors", s.dense.anchor_count, "E: anchors describing each vertex in the dense level")->group(group)->capture_default_str();
-  app.add_option("--dense-outliers", s.dense.outlier_fraction, "share of the least consistent tracked pairs not used as dense anchors")->group(group)->capture_default_str();
+  app.add_option("--dense-outliers", s.dense.outlier_fraction, "at most this share of the tracked pairs is dropped as dense anchors")->group(group)->capture_default_str();
+  app.add_option("--dense-outlier-ratio", s.dense.outlier_ratio, "... and only pairs whose distortion exceeds this many medians")->group(group)->capture_default_str();
   app.add_option("--dense-locality", s.dense.locality, "dense level: anchors weigh 1/(distance + this); 0 = plain d_iso")->group(group)->capture_default_str();
   app.add_option("--level0-radius", s.preprocess.level0_radius, "level-0 sampling radius, fraction of the geodesic diameter")->group(group)->capture_default_str();
   app.add_option("--level-shrink", s.preprocess.level_shrink, "sampling radius factor between levels")->group(group)->capture_default_str();

@@ -19,6 +19,7 @@ namespace isocorr::api {
   X(window_factor, s.tracking.window_factor)                \
   X(dense_anchors, s.dense.anchor_count)                    \
   X(dense_outliers, s.dense.outlier_fraction)               \
+  X(dense_outlier_ratio, s.dense.outlier_ratio)             \
   X(dense_locality, s.dense.locality)                       \
   X(level0_radius, s.preprocess.level0_radius)              \
   X(level_shrink, s.preprocess.level_shrink)                \

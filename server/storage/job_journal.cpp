@@ -31,6 +31,7 @@ json settings_to_json(const MatchSettings& s) {
           {"window_factor", s.tracking.window_factor},
           {"dense_anchors", s.dense.anchor_count},
           {"dense_outliers", s.dense.outlier_fraction},
+          {"dense_outlier_ratio", s.dense.outlier_ratio},
           {"dense_refinement_rounds", s.dense.anchor_refinement_rounds},
           {"dense_locality", s.dense.locality},
           {"level0_radius", s.preprocess.level0_radius},
@@ -63,6 +64,7 @@ MatchSettings settings_from_json(const json& j) {
   read("window_factor", s.tracking.window_factor);
   read("dense_anchors", s.dense.anchor_count);
   read("dense_outliers", s.dense.outlier_fraction);
+  read("dense_outlier_ratio", s.dense.outlier_ratio);
   read("dense_refinement_rounds", s.dense.anchor_refinement_rounds);
   read("dense_locality", s.dense.locality);
   read("level0_radius", s.preprocess.level0_radius);

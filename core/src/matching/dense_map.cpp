@@ -100,15 +100,16 @@ void match_direction(const PreprocessedShape& from, const Descriptors& from_desc
   }
 }
 
-// Pairs whose leave-one-out d_iso against all the others is among the worst `fraction`
-// are dropped (a tracked map on a non-isometric pair has a few misplaced samples, and an
-// anchor or seed there would pull its whole neighbourhood). Order is kept, so the first E
-// survivors are still the coarsest, evenly spread ones.
+// Pairs whose leave-one-out d_iso against all the others exceeds `ratio` times the median
+// are dropped as anchors, at most the worst `fraction` of them: a tracked map on a
+// non-isometric pair has a few misplaced samples, and an anchor there would pull its
+// whole neighbourhood. Order is kept, so the first E survivors are still the coarsest,
+// evenly spread ones.
 std::vector<SamplePair> drop_least_consistent(const PreprocessedShape& source, const PreprocessedShape& target,
-                                              const std::vector<SamplePair>& pairs, double fraction) {
+                                              const std::vector<SamplePair>& pairs, double fraction, double ratio) {
   const size_t count = pairs.size();
-  const size_t dropped = static_cast<size_t>(fraction * count);
-  if (dropped == 0 || count < 8) return pairs;
+  const size_t max_dropped = static_cast<size_t>(fraction * count);
+  if (max_dropped == 0 || count < 8) return pairs;
   std::vector<double> distortion(count, 0.0);
   for (size_t p = 0; p < count; ++p) {
     const int sv = source.sample_vertex(pairs[p].source_sample);
@@ -117,12 +118,13 @@ std::vector<SamplePair> drop_least_consistent(const PreprocessedShape& source, c
       if (q != p)
         distortion[p] += std::abs(source.field(pairs[q].source_sample, sv) - target.field(pairs[q].target_sample, tv));
   }
-  // Drop by rank, not by value: on a perfect match every distortion is zero.
   std::vector<size_t> order(count);
   for (size_t p = 0; p < count; ++p) order[p] = p;
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return distortion[a] < distortion[b]; });
-  std::vector<unsigned char> keep(count, 0);
-  for (size_t r = 0; r < count - dropped; ++r) keep[order[r]] = 1;
+  const double threshold = ratio * distortion[order[count / 2]];
+  std::vector<unsigned char> keep(count, 1);
+  for (size_t r = count - 1, dropped = 0; dropped < max_dropped && distortion[order[r]] > threshold; --r, ++dropped)
+    keep[order[r]] = 0;
   std::vector<SamplePair> kept;
   for (size_t p = 0; p < count; ++p)
     if (keep[p]) kept.push_back(pairs[p]);
@@ -134,7 +136,7 @@ std::vector<SamplePair> drop_least_consistent(const PreprocessedShape& source, c
 DenseMap compute_dense_map(const PreprocessedShape& source, const PreprocessedShape& target,
                            const std::vector<SamplePair>& all_pairs, const DenseOptions& options,
                            const JobControl& control) {
-  const std::vector<SamplePair> reliable = drop_least_consistent(source, target, all_pairs, options.outlier_fraction);
+  const std::vector<SamplePair> reliable = drop_least_consistent(source, target, all_pairs, options.outlier_fraction, options.outlier_ratio);
   const std::vector<SamplePair>& pairs = reliable;
   const int e = static_cast<int>(std::min(pairs.size(), static_cast<size_t>(std::max(1, options.anchor_count))));
   const int threads = resolve_thread_count(options.threads);
@@ -189,16 +191,41 @@ DenseMap compute_dense_map(const PreprocessedShape& source, const PreprocessedSh
   }
   const Descriptors target_desc = build_descriptors(target_n, target_fields);
 
-  std::vector<std::pair<int, int>> forward_seeds, reverse_seeds;
-  for (const SamplePair& p : pairs) {
-    forward_seeds.push_back({source.sample_vertex(p.source_sample), target.sample_vertex(p.target_sample)});
-    reverse_seeds.push_back({target.sample_vertex(p.target_sample), source.sample_vertex(p.source_sample)});
-  }
+  // Seeds start the descent. The pairs dropped as anchors are mostly right on a thin limb
+  // (a centaur's arm without seeds was reached from the torso and went to the other arm)
+  // and mostly wrong on a non-isometric pair (a cat's misplaced samples pull their
+  // neighbourhood), so both seed sets are tried and the forward map with the lower mean
+  // d_iso, against the same anchors, is kept.
+  auto seeds_of = [&](const std::vector<SamplePair>& seed_pairs, bool forward) {
+    std::vector<std::pair<int, int>> seeds;
+    for (const SamplePair& p : seed_pairs) {
+      const int sv = source.sample_vertex(p.source_sample), tv = target.sample_vertex(p.target_sample);
+      seeds.push_back(forward ? std::make_pair(sv, tv) : std::make_pair(tv, sv));
+    }
+    return seeds;
+  };
+  auto mean = [](const std::vector<float>& values) {
+    double sum = 0;
+    for (float v : values) sum += v;
+    return values.empty() ? 0.0 : sum / values.size();
+  };
   DenseMap dense;
-  match_direction(source, source_desc, target, target_desc, forward_seeds, options.locality, threads, control,
-                  dense.forward, dense.forward_diso);
-  match_direction(target, target_desc, source, source_desc, reverse_seeds, options.locality, threads, control,
-                  dense.reverse, dense.reverse_diso);
+  const std::vector<SamplePair>* seed_pairs = &pairs;
+  match_direction(source, source_desc, target, target_desc, seeds_of(pairs, true), options.locality, threads,
+                  control, dense.forward, dense.forward_diso);
+  if (all_pairs.size() > pairs.size()) {
+    std::vector<int> image;
+    std::vector<float> cost;
+    match_direction(source, source_desc, target, target_desc, seeds_of(all_pairs, true), options.locality,
+                    threads, control, image, cost);
+    if (mean(cost) < mean(dense.forward_diso)) {
+      dense.forward.swap(image);
+      dense.forward_diso.swap(cost);
+      seed_pairs = &all_pairs;
+    }
+  }
+  match_direction(target, target_desc, source, source_desc, seeds_of(*seed_pairs, false), options.locality, threads,
+                  control, dense.reverse, dense.reverse_diso);
   return dense;
 }
 

@@ -76,6 +76,9 @@ void MatchSettings::validate() const {
     throw InputError("trim fraction must lie in [0, 0.9)");
   if (tracking.window_factor <= 0) throw InputError("window factor must be positive");
   if (dense.anchor_count < 3) throw InputError("dense anchor count E must be at least 3");
+  if (dense.outlier_fraction < 0 || dense.outlier_fraction >= 1)
+    throw InputError("dense outlier fraction must lie in [0, 1)");
+  if (dense.outlier_ratio < 1) throw InputError("dense outlier ratio must be at least 1");
 }
 
 MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShape& target,

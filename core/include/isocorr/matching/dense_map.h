@@ -16,7 +16,10 @@ namespace isocorr {
 
 struct DenseOptions {
   int anchor_count = 100;  // E
-  double outlier_fraction = 0.2;     // least consistent tracked pairs not used as anchors/seeds
+  double outlier_fraction = 0.2;     // at most this share of the tracked pairs is dropped as
+                                     // anchors: those least consistent with the others,
+  double outlier_ratio = 1.0;        // and only where their distortion exceeds this many medians
+                                     // (1: the share, by rank, but none when all pairs agree)
   int anchor_refinement_rounds = 2;  // rounds moving anchor images to vertex accuracy
   float locality = 0.05f;  // anchors weigh 1 / (distance + locality): near ones count more
                            // (0 = plain d_iso); distances are fractions of the diameter
