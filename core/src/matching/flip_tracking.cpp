@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "isocorr/matching/orientation.h"
 #include "isocorr/matching/surface_descent.h"
@@ -86,7 +87,7 @@ double sample_map_diso(const PreprocessedShape& source, const PreprocessedShape&
   double total = 0;
   for (size_t p = 0; p < pairs.size(); ++p) {
     const int sv = source.sample_vertex(pairs[p].source_sample);
-    const int tv = pairs[p].target_vertex >= 0 ? pairs[p].target_vertex : target.sample_vertex(pairs[p].target_sample);
+    const int tv = image_vertex(target, pairs[p]);
     double sum = 0;
     for (size_t q = 0; q < pairs.size(); ++q) {
       if (q == p) continue;
@@ -139,15 +140,16 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
       const double window = options.window_factor * parent_distance + radius;
       // Passes widen the search when nothing qualifies: near the parent's image and
       // keeping handedness, then near the parent's image, then anywhere.
-      const HandednessGuard guard(source, target, anchors, sv, static_cast<float>(0.5 * radius));
-      const int first_pass = options.handedness_guard ? 0 : 1;
+      std::optional<HandednessGuard> guard;
+      if (options.handedness_guard) guard.emplace(source, target, anchors, sv, static_cast<float>(0.5 * radius));
+      const int first_pass = guard ? 0 : 1;
       int best = -1;
       float best_cost = std::numeric_limits<float>::max();
       for (int pass = first_pass; pass < 3 && best < 0; ++pass) {
         for (int j : pool) {
           const int tv = target.sample_vertex(j);
           if (pass < 2 && target.field(parent->target_sample, tv) > window) continue;
-          if (pass == 0 && !guard.accepts(tv)) continue;
+          if (pass == 0 && !guard->accepts(tv)) continue;
           const float cost = anchored_distortion(source, target, sv, tv, anchors, anchor_count, -1,
                                                  options.trim_fraction, scratch);
           if (cost < best_cost) best_cost = cost, best = j;

@@ -14,6 +14,11 @@ double handedness(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& n) {
   return (b - a).cross(c - a).dot(n);
 }
 
+// |sine| of the corner angle at a: how far the triangle is from flat.
+double spread(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& n) {
+  return std::abs(handedness(a, b, c, n)) / ((b - a).norm() * (c - a).norm() + 1e-30);
+}
+
 // Triangle corners lie at these geodesic distances from the apex (fractions of the
 // diameter): a few sample spacings, so one sample's error cannot swap two corners.
 constexpr float kBandLow = 0.06f;
@@ -47,17 +52,14 @@ double orientation_agreement(const PreprocessedShape& source, const Preprocessed
       for (size_t j = i + 1; j < others.size(); ++j) {
         const int sb = source.sample_vertex(pairs[others[i]].source_sample);
         const int sc = source.sample_vertex(pairs[others[j]].source_sample);
-        const Vec3 u = sp[sb] - sp[sa], w = sp[sc] - sp[sa];
-        const double spread = std::abs(handedness(sp[sa], sp[sb], sp[sc], n)) / (u.norm() * w.norm() + 1e-30);
-        if (spread > best_spread) best_spread = spread, b = others[i], c = others[j];
+        const double s = spread(sp[sa], sp[sb], sp[sc], n);
+        if (s > best_spread) best_spread = s, b = others[i], c = others[j];
       }
     const int sb = b < 0 ? sa : source.sample_vertex(pairs[b].source_sample);
     if (c < 0 || best_spread < 0.2) continue;
     const int sc = source.sample_vertex(pairs[c].source_sample);
-    auto image = [&](const SamplePair& p) {
-      return p.target_vertex >= 0 ? p.target_vertex : target.sample_vertex(p.target_sample);
-    };
-    const int ta = image(pairs[a]), tb = image(pairs[b]), tc = image(pairs[c]);
+    const int ta = image_vertex(target, pairs[a]), tb = image_vertex(target, pairs[b]),
+              tc = image_vertex(target, pairs[c]);
     const double source_sign = handedness(sp[sa], sp[sb], sp[sc], n);
     const double target_sign = handedness(tp[ta], tp[tb], tp[tc], target.normals()[ta]);
     if (target_sign == 0) continue;
@@ -89,17 +91,14 @@ HandednessGuard::HandednessGuard(const PreprocessedShape& source, const Preproce
     for (size_t j = i + 1; j < count; ++j) {
       const Vec3& b = sp[source.sample_vertex(matched[near[i].second].source_sample)];
       const Vec3& c = sp[source.sample_vertex(matched[near[j].second].source_sample)];
-      const double h = handedness(a, b, c, n);
-      const double spread = std::abs(h) / ((b - a).norm() * (c - a).norm() + 1e-30);
-      if (spread >= kMinSpread) candidates.push_back({spread, near[i].second, near[j].second, h > 0});
+      const double s = spread(a, b, c, n);
+      if (s >= kMinSpread) candidates.push_back({s, near[i].second, near[j].second, handedness(a, b, c, n) > 0});
     }
   std::stable_sort(candidates.begin(), candidates.end(),
                    [](const Candidate& x, const Candidate& y) { return x.spread > y.spread; });
-  auto image = [&](const SamplePair& p) {
-    return p.target_vertex >= 0 ? p.target_vertex : target.sample_vertex(p.target_sample);
-  };
   for (size_t k = 0; k < std::min(candidates.size(), kTriangles); ++k)
-    triangles_.push_back({image(matched[candidates[k].b]), image(matched[candidates[k].c]), candidates[k].positive});
+    triangles_.push_back({image_vertex(target, matched[candidates[k].b]),
+                          image_vertex(target, matched[candidates[k].c]), candidates[k].positive});
 }
 
 bool HandednessGuard::accepts(int target_vertex) const {

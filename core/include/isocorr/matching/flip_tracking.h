@@ -17,6 +17,11 @@ struct SamplePair {
   int target_vertex = -1;  // the target vertex (not sample) that best agrees with the anchors
 };
 
+// The target vertex a pair maps to: its vertex-accurate image once refined, else its sample.
+inline int image_vertex(const PreprocessedShape& target, const SamplePair& pair) {
+  return pair.target_vertex >= 0 ? pair.target_vertex : target.sample_vertex(pair.target_sample);
+}
+
 struct TrackingOptions {
   int anchor_cap = 100;        // E: anchors used for d_iso (the coarsest pairs, evenly spread)
   double window_factor = 2.0;  // a new sample's image is sought within this many times its
