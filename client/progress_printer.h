@@ -19,7 +19,7 @@ class ProgressPrinter {
   void operator()(const Progress& p) {
     if (terminal_) {
       const int width = 30, filled = static_cast<int>(p.fraction * width);
-      std::fprintf(stderr, "\r[%-*s] %3d%% %-18s level %d/%d", width, std::string(filled, '#').c_str(), width,
+      std::fprintf(stderr, "\r[%-*s] %3d%% %-18s level %d/%d", width, std::string(filled, '#').c_str(),
                    static_cast<int>(p.fraction * 100), p.stage.c_str(), p.level, p.levels);
       if (p.stage == "done") std::fprintf(stderr, "\n");
     } else if (p.stage != last_stage_) {
