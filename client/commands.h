@@ -5,7 +5,7 @@
 #include <optional>
 #include <string>
 
-#include "isocorr/matching/matcher.h"
+#include "isocorr/settings/match_settings.h"
 
 namespace CLI {
 class App;

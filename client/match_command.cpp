@@ -8,11 +8,10 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.h"
-#include "isocorr/matching/matcher.h"
+#include "isocorr/matching/pipeline.h"
 #include "isocorr/mesh/mesh_io.h"
 #include "isocorr/output/colour_transfer.h"
 #include "isocorr/output/map_files.h"
-#include "isocorr/output/match_report.h"
 #include "progress_printer.h"
 #include "settings_flags.h"
 
@@ -22,12 +21,7 @@ namespace {
 std::atomic<bool> g_interrupted{false};
 void on_interrupt(int) { g_interrupted = true; }
 
-struct MatchArguments {
-  MatchJobFiles files;
-  std::string selection = "orientation";
-};
-
-int run_match(const MatchJobFiles& args) {
+int match_locally(const MatchJobFiles& args) {
   const auto start = std::chrono::steady_clock::now();
   try {
     const LoadedMesh source = load_mesh(args.source);
@@ -47,18 +41,19 @@ int run_match(const MatchJobFiles& args) {
     const MatchResult result = match_meshes(source.mesh, target.mesh, args.settings, control);
     for (const auto& note : result.notes) spdlog::warn("{}", note);
 
-    write_map(args.output, result.forward);
-    if (!args.reverse_output.empty()) write_map(args.reverse_output, result.reverse);
+    const MatchOutput& out = result.output;
+    write_map(args.output, out.forward);
+    if (!args.reverse_output.empty()) write_map(args.reverse_output, out.reverse);
     if (!args.report.empty()) {
-      std::ofstream out(args.report);
-      out << match_report_json(result, args.settings) << '\n';
-      if (!out) throw InputError("cannot write report '" + args.report + "'");
+      std::ofstream report(args.report);
+      report << out.report_json << '\n';
+      if (!report) throw InputError("cannot write report '" + args.report + "'");
     }
-    if (!args.colour_ply.empty()) write_colour_ply_pair(args.colour_ply, source.mesh, target.mesh, result.reverse);
+    if (!args.colour_ply.empty()) write_colour_ply_pair(args.colour_ply, source.mesh, target.mesh, out.reverse);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     spdlog::info("matched {} -> {} vertices in {:.2f} s: D_iso {:.4f}, tracked {} of {} level-0 maps, "
                  "chose #{} (orientation {:.2f}); map written to {}",
-                 result.forward.size(), result.reverse.size(), seconds, result.diso, result.tracked.size(),
+                 out.forward.size(), out.reverse.size(), seconds, result.diso, result.tracked.size(),
                  result.level0.size(), result.tracked[result.chosen].level0_rank + 1,
                  result.tracked[result.chosen].orientation, args.output);
     return kExitOk;
@@ -77,26 +72,25 @@ int run_match(const MatchJobFiles& args) {
 }  // namespace
 
 void register_match_command(CLI::App& app, int& exit_code, RemoteMatchRunner remote) {
-  auto args = std::make_shared<MatchArguments>();
+  auto args = std::make_shared<MatchJobFiles>();
   CLI::App* cmd = app.add_subcommand("match", "match SOURCE to TARGET and write the dense map");
-  cmd->add_option("source", args->files.source, "source mesh (OFF, OBJ or PLY)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("target", args->files.target, "target mesh (OFF, OBJ or PLY)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("-o,--output", args->files.output,
+  cmd->add_option("source", args->source, "source mesh (OFF, OBJ or PLY)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("target", args->target, "target mesh (OFF, OBJ or PLY)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", args->output,
                   "map file: one 0-based target vertex per source vertex, one per line (binary if it ends in .bin)")
       ->required();
-  cmd->add_option("--reverse-out", args->files.reverse_output, "also write the target-to-source map");
-  cmd->add_option("--report", args->files.report, "write a JSON report (timings, candidates, tracked maps, D_iso)");
-  cmd->add_option("--colour-ply", args->files.colour_ply,
+  cmd->add_option("--reverse-out", args->reverse_output, "also write the target-to-source map");
+  cmd->add_option("--report", args->report, "write a JSON report (timings, candidates, tracked maps, D_iso)");
+  cmd->add_option("--colour-ply", args->colour_ply,
                   "write PREFIXsource.ply and PREFIXtarget.ply, the target coloured through the map");
-  add_match_settings_flags(*cmd, args->files.settings, args->selection);
+  add_match_settings_flags(*cmd, args->settings);
   cmd->callback([args, remote, &exit_code] {
-    apply_selection(args->selection, args->files.settings);
     if (remote)
-      if (const std::optional<int> code = remote(args->files)) {
+      if (const std::optional<int> code = remote(*args)) {
         exit_code = *code;
         return;
       }
-    exit_code = run_match(args->files);
+    exit_code = match_locally(*args);
   });
 }
 

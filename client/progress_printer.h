@@ -1,10 +1,13 @@
 // Job progress on stderr: a one-line bar on a terminal, one line per stage change otherwise.
-// Used by the local match and by the remote commands (watch, match --server).
+// Used by the local match and by the remote commands (watch, match --server). The engine
+// reports from its worker threads, so calls are serialised.
 #pragma once
 
 #include <unistd.h>
 
 #include <cstdio>
+#include <functional>
+#include <mutex>
 #include <string>
 
 #include <spdlog/spdlog.h>
@@ -15,21 +18,27 @@ namespace isocorr::cli {
 
 class ProgressPrinter {
  public:
-  ProgressPrinter() : terminal_(isatty(STDERR_FILENO)) {}
+  // `log_line` receives the one-line-per-stage messages when stderr is not a terminal.
+  explicit ProgressPrinter(std::function<void(const std::string&)> log_line = [](const std::string& line) {
+    spdlog::info("{}", line);
+  }) : terminal_(isatty(STDERR_FILENO)), log_line_(std::move(log_line)) {}
   void operator()(const Progress& p) {
+    std::lock_guard lock(mutex_);
     if (terminal_) {
       const int width = 30, filled = static_cast<int>(p.fraction * width);
       std::fprintf(stderr, "\r[%-*s] %3d%% %-18s level %d/%d", width, std::string(filled, '#').c_str(),
                    static_cast<int>(p.fraction * 100), p.stage.c_str(), p.level, p.levels);
       if (p.stage == "done") std::fprintf(stderr, "\n");
     } else if (p.stage != last_stage_) {
-      spdlog::info("stage {} (level {}/{})", p.stage, p.level, p.levels);
+      log_line_("stage " + p.stage + " (level " + std::to_string(p.level) + "/" + std::to_string(p.levels) + ")");
     }
     last_stage_ = p.stage;
   }
 
  private:
+  std::mutex mutex_;
   bool terminal_;
+  std::function<void(const std::string&)> log_line_;
   std::string last_stage_;
 };
 

@@ -1,9 +1,8 @@
-// Command-line flags for every engine setting, shared by `isocorr match` and the benchmark.
+// Command-line flags for every engine setting, derived from the settings table and shared
+// by `isocorr match`, `isocorr submit` and the benchmark.
 #pragma once
 
-#include <string>
-
-#include "isocorr/matching/matcher.h"
+#include "isocorr/settings/match_settings.h"
 
 namespace CLI {
 class App;
@@ -11,9 +10,9 @@ class App;
 
 namespace isocorr::cli {
 
-// Registers one flag per MatchSettings member, with the default shown in --help.
-// `selection` receives the rule name; call apply_selection afterwards.
-void add_match_settings_flags(CLI::App& app, MatchSettings& settings, std::string& selection);
-void apply_selection(const std::string& selection, MatchSettings& settings);
+// Registers one flag per row of the settings table (--name-with-dashes), its help with the
+// range and the default. Parsed values land in `settings`; malformed text is a CLI error.
+// `settings` must outlive parsing.
+void add_match_settings_flags(CLI::App& app, MatchSettings& settings);
 
 }  // namespace isocorr::cli

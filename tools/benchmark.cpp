@@ -20,7 +20,7 @@
 #include "isocorr/eval/ground_truth.h"
 #include "isocorr/eval/metrics.h"
 #include "isocorr/geodesic/geodesic_diameter.h"
-#include "isocorr/matching/matcher.h"
+#include "isocorr/matching/pipeline.h"
 #include "isocorr/mesh/mesh_io.h"
 #include "settings_flags.h"
 
@@ -45,7 +45,7 @@ RuleOutcome score(const MatchResult& result, const TriangleMesh& target, const F
                   double diameter, const GroundTruth& truth, int points) {
   EvaluationOptions options;
   options.max_points = points;
-  const GroundTruthScore s = score_against_ground_truth(target, geodesics, diameter, result.forward, truth, options);
+  const GroundTruthScore s = score_against_ground_truth(target, geodesics, diameter, result.output.forward, truth, options);
   RuleOutcome out;
   out.d_grd = s.mean_error;
   out.d_grd_max = s.max_error;
@@ -64,15 +64,12 @@ PairOutcome run_pair(const std::string& dataset, const BenchmarkPair& pair, Matc
   const auto start = std::chrono::steady_clock::now();
   const LoadedMesh source = load_mesh(pair.source_path);
   const LoadedMesh target = load_mesh(pair.target_path);
-  PreprocessOptions options = settings.preprocess;
-  options.threads = settings.threads;
-  const auto source_shape = PreprocessedShape::build(source.mesh, options);
-  const auto target_shape = PreprocessedShape::build(target.mesh, options);
+  MeshPairShapes shapes(source.mesh, target.mesh);  // the second rule reuses the preprocessing
   settings.selection = SelectionRule::kOrientationThenDistortion;
-  const MatchResult by_orientation = match_shapes(*source_shape, *target_shape, settings);
+  const MatchResult by_orientation = run_match(shapes, settings);
   outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   settings.selection = SelectionRule::kLeastDistortion;
-  const MatchResult by_diso = match_shapes(*source_shape, *target_shape, settings);
+  const MatchResult by_diso = run_match(shapes, settings);
 
   const GroundTruth truth = load_ground_truth(dataset, pair, source.mesh.num_vertices(), target.mesh.num_vertices());
   const MeshTopology topology(target.mesh);
@@ -159,7 +156,7 @@ void print_rule_row(const char* rule, const std::vector<PairOutcome>& outcomes, 
 int main(int argc, char** argv) {
   CLI::App app{"isocorr-bench: accuracy and speed on the benchmark datasets' pairs.tsv lists"};
   std::vector<std::string> datasets;
-  std::string data_root = "../shared/data", selection = "orientation", protocol;
+  std::string data_root = "../shared/data", protocol;
   int limit = 0, points = 1000;
   MatchSettings settings;
   app.add_option("datasets", datasets, "dataset folders under --data (default: tosca_hires faust_reg6890 scape)");
@@ -167,7 +164,7 @@ int main(int argc, char** argv) {
   app.add_option("--limit", limit, "at most this many pairs per dataset (0 = all)")->capture_default_str();
   app.add_option("--protocol", protocol, "only pairs whose protocol column contains this");
   app.add_option("--points", points, "ground-truth points scored per pair")->capture_default_str();
-  isocorr::cli::add_match_settings_flags(app, settings, selection);
+  isocorr::cli::add_match_settings_flags(app, settings);
   CLI11_PARSE(app, argc, argv);
   if (datasets.empty()) datasets = {"tosca_hires", "faust_reg6890", "scape"};
 

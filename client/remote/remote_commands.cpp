@@ -73,14 +73,13 @@ RemoteMatchRunner register_remote_commands(CLI::App& app, ConnectionOptions& opt
 
   // submit SOURCE TARGET [settings]
   struct Submit {
-    std::string source, target, selection = "orientation";
+    std::string source, target;
     MatchSettings settings;
   };
   auto submit = std::make_shared<Submit>();
   CLI::App* submit_cmd = add_command(
       app, "submit", "create a match job and print its name at once (meshes: files or meshes/{sha256})", options,
       exit_code, [submit](Connection& connection, bool json) {
-        apply_selection(submit->selection, submit->settings);
         v1::CreateMatchJobRequest request;
         request.set_source_mesh(mesh_name(connection, submit->source));
         request.set_target_mesh(mesh_name(connection, submit->target));
@@ -92,7 +91,7 @@ RemoteMatchRunner register_remote_commands(CLI::App& app, ConnectionOptions& opt
       });
   submit_cmd->add_option("source", submit->source, "source mesh file or meshes/{sha256}")->required();
   submit_cmd->add_option("target", submit->target, "target mesh file or meshes/{sha256}")->required();
-  add_match_settings_flags(*submit_cmd, submit->settings, submit->selection);
+  add_match_settings_flags(*submit_cmd, submit->settings);
 
   // status NAME (a job, or a mesh)
   auto status_name = std::make_shared<std::string>();
@@ -185,14 +184,14 @@ RemoteMatchRunner register_remote_commands(CLI::App& app, ConnectionOptions& opt
       app, "download", "write a finished job's maps, confidences and report", options, exit_code,
       [download](Connection& connection, bool json) {
         const Download& d = *download;
-        std::vector<v1::ResultPart> parts;
-        if (!d.output.empty()) parts.push_back(v1::FORWARD_MAP);
-        if (!d.reverse_output.empty()) parts.push_back(v1::REVERSE_MAP);
-        if (!d.confidence.empty()) parts.push_back(v1::FORWARD_CONFIDENCE);
-        if (!d.reverse_confidence.empty()) parts.push_back(v1::REVERSE_CONFIDENCE);
-        if (!d.report.empty()) parts.push_back(v1::REPORT_JSON);
+        std::vector<ResultPart> parts;
+        if (!d.output.empty()) parts.push_back(ResultPart::kForwardMap);
+        if (!d.reverse_output.empty()) parts.push_back(ResultPart::kReverseMap);
+        if (!d.confidence.empty()) parts.push_back(ResultPart::kForwardConfidence);
+        if (!d.reverse_confidence.empty()) parts.push_back(ResultPart::kReverseConfidence);
+        if (!d.report.empty()) parts.push_back(ResultPart::kReport);
         if (parts.empty()) throw InputError("nothing to download: give -o, --reverse-out, --confidence-out or --report");
-        const DownloadedResult result = download_result(connection, job_name(d.name), parts);
+        const MatchOutput result = download_result(connection, job_name(d.name), parts);
         if (!d.output.empty()) write_map(d.output, result.forward);
         if (!d.reverse_output.empty()) write_map(d.reverse_output, result.reverse);
         if (!d.confidence.empty()) write_values_text(d.confidence, result.forward_confidence);

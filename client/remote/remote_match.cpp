@@ -50,10 +50,10 @@ int run_remote_match(const ConnectionOptions& options, const MatchJobFiles& file
       return exit_code_for_job(job);
     }
 
-    std::vector<v1::ResultPart> parts = {v1::FORWARD_MAP};
-    if (!files.reverse_output.empty() || !files.colour_ply.empty()) parts.push_back(v1::REVERSE_MAP);
-    if (!files.report.empty()) parts.push_back(v1::REPORT_JSON);
-    const DownloadedResult result = download_result(connection, job.name(), parts);
+    std::vector<ResultPart> parts = {ResultPart::kForwardMap};
+    if (!files.reverse_output.empty() || !files.colour_ply.empty()) parts.push_back(ResultPart::kReverseMap);
+    if (!files.report.empty()) parts.push_back(ResultPart::kReport);
+    const MatchOutput result = download_result(connection, job.name(), parts);
     write_map(files.output, result.forward);
     if (!files.reverse_output.empty()) write_map(files.reverse_output, result.reverse);
     if (!files.report.empty()) {

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <fstream>
 
+#include "codec/result_part_codec.h"
 #include "isocorr/util/error.h"
 #include "remote/rpc_error.h"
 
@@ -19,24 +20,24 @@ void append_chunk(std::vector<T>& out, const v1::ResultChunk& chunk, const Value
 
 }  // namespace
 
-DownloadedResult download_result(Connection& connection, const std::string& job_name,
-                                 const std::vector<v1::ResultPart>& parts) {
+MatchOutput download_result(Connection& connection, const std::string& job_name, const std::vector<ResultPart>& parts) {
   auto context = connection.context(/*long_call=*/true);
   v1::DownloadResultRequest request;
   request.set_name(job_name);
-  for (const v1::ResultPart part : parts) request.add_parts(part);
+  for (const ResultPart part : parts) request.add_parts(api::result_part_to_proto(part));
   auto reader = connection.jobs().DownloadResult(context.get(), request);
-  DownloadedResult result;
+  MatchOutput result;
   std::vector<char> report;
   v1::ResultChunk chunk;
   while (reader->Read(&chunk)) {
-    switch (chunk.part()) {
-      case v1::FORWARD_MAP: append_chunk(result.forward, chunk, chunk.indices()); break;
-      case v1::REVERSE_MAP: append_chunk(result.reverse, chunk, chunk.indices()); break;
-      case v1::FORWARD_CONFIDENCE: append_chunk(result.forward_confidence, chunk, chunk.values()); break;
-      case v1::REVERSE_CONFIDENCE: append_chunk(result.reverse_confidence, chunk, chunk.values()); break;
-      case v1::REPORT_JSON: append_chunk(report, chunk, chunk.data()); break;
-      default: break;  // parts added by a newer server
+    const std::optional<ResultPart> part = api::result_part_from_proto(chunk.part());
+    if (!part) continue;  // parts added by a newer server
+    switch (*part) {
+      case ResultPart::kForwardMap: append_chunk(result.forward, chunk, chunk.indices()); break;
+      case ResultPart::kReverseMap: append_chunk(result.reverse, chunk, chunk.indices()); break;
+      case ResultPart::kForwardConfidence: append_chunk(result.forward_confidence, chunk, chunk.values()); break;
+      case ResultPart::kReverseConfidence: append_chunk(result.reverse_confidence, chunk, chunk.values()); break;
+      case ResultPart::kReport: append_chunk(report, chunk, chunk.data()); break;
     }
   }
   check_rpc(reader->Finish(), "cannot download the result of " + job_name);

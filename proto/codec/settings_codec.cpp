@@ -1,50 +1,67 @@
 #include "codec/settings_codec.h"
 
+#include <google/protobuf/descriptor.h>
+#include <google/protobuf/reflection.h>
+
+#include "isocorr/settings/settings_schema.h"
+#include "isocorr/util/error.h"
+
 namespace isocorr::api {
+namespace {
 
-// One line per field in both directions, so adding a setting is a two-line change here.
-#define ISOCORR_SETTINGS_FIELDS(X)                          \
-  X(level0_samples, s.level0_samples)                       \
-  X(level0_extra_targets, s.level0_extra_targets)           \
-  X(max_level0_diso, s.max_level0_diso)                     \
-  X(max_level0_maps, s.max_level0_maps)                     \
-  X(min_tracked, s.min_tracked)                             \
-  X(max_tracked, s.max_tracked)                             \
-  X(orientation_threshold, s.orientation_threshold)         \
-  X(orientation_margin, s.orientation_margin)               \
-  X(orientation_weight, s.orientation_weight)               \
-  X(handedness_guard, s.tracking.handedness_guard)          \
-  X(anchor_cap, s.tracking.anchor_cap)                      \
-  X(trim_fraction, s.tracking.trim_fraction)                \
-  X(window_factor, s.tracking.window_factor)                \
-  X(dense_anchors, s.dense.anchor_count)                    \
-  X(dense_outliers, s.dense.outlier_fraction)               \
-  X(dense_outlier_ratio, s.dense.outlier_ratio)             \
-  X(dense_locality, s.dense.locality)                       \
-  X(level0_radius, s.preprocess.level0_radius)              \
-  X(level_shrink, s.preprocess.level_shrink)                \
-  X(decision_level, s.preprocess.decision_level)            \
-  X(agd_sources, s.preprocess.saliency.agd_sources)         \
-  X(extremity_radius, s.preprocess.saliency.extremity_radius)
+using google::protobuf::FieldDescriptor;
 
-MatchSettings settings_from_proto(const v1::MatchSettings& p) {
-  MatchSettings s;
-#define ISOCORR_FROM_PROTO(field, member) \
-  if (p.has_##field()) member = static_cast<decltype(member)>(p.field());
-  ISOCORR_SETTINGS_FIELDS(ISOCORR_FROM_PROTO)
-#undef ISOCORR_FROM_PROTO
-  if (p.selection() == v1::MatchSettings::LEAST_DISTORTION) s.selection = SelectionRule::kLeastDistortion;
-  return s;
+// The proto field of a schema row: same name. Local rows (threads) have none.
+const FieldDescriptor* proto_field(const SettingField& field) {
+  if (field.scope == SettingScope::kLocal) return nullptr;
+  return v1::MatchSettings::descriptor()->FindFieldByName(std::string(field.name));
 }
 
-v1::MatchSettings settings_to_proto(const MatchSettings& s) {
-  v1::MatchSettings p;
-#define ISOCORR_TO_PROTO(field, member) p.set_##field(member);
-  ISOCORR_SETTINGS_FIELDS(ISOCORR_TO_PROTO)
-#undef ISOCORR_TO_PROTO
-  p.set_selection(s.selection == SelectionRule::kLeastDistortion ? v1::MatchSettings::LEAST_DISTORTION
-                                                                 : v1::MatchSettings::ORIENTATION_THEN_DISTORTION);
-  return p;
+}  // namespace
+
+// Both directions walk the engine's settings table with protobuf reflection, so a new
+// setting needs no line here; tests/proto/settings_codec_test.cpp checks that the table
+// and the message agree field by field. A choice's index i is enum value i + 1 (0 is
+// UNSPECIFIED, the engine default).
+MatchSettings settings_from_proto(const v1::MatchSettings& proto) {
+  MatchSettings settings;
+  const auto* reflection = proto.GetReflection();
+  for (const auto& field : settings_schema()) {
+    const FieldDescriptor* fd = proto_field(field);
+    if (!fd) continue;
+    if (fd->has_presence() && !reflection->HasField(proto, fd)) continue;
+    switch (field.type) {
+      case SettingType::kInt: field.set(settings, reflection->GetInt32(proto, fd)); break;
+      case SettingType::kDouble: field.set(settings, reflection->GetDouble(proto, fd)); break;
+      case SettingType::kBool: field.set(settings, reflection->GetBool(proto, fd) ? 1 : 0); break;
+      case SettingType::kChoice: {
+        const int value = reflection->GetEnumValue(proto, fd);
+        if (value == 0) break;  // UNSPECIFIED
+        if (value < 1 || value > static_cast<int>(field.choices.size()))
+          throw InputError("setting " + std::string(field.name) + " has the unknown value " + std::to_string(value));
+        field.set(settings, value - 1);
+        break;
+      }
+    }
+  }
+  return settings;
+}
+
+v1::MatchSettings settings_to_proto(const MatchSettings& settings) {
+  v1::MatchSettings proto;
+  const auto* reflection = proto.GetReflection();
+  for (const auto& field : settings_schema()) {
+    const FieldDescriptor* fd = proto_field(field);
+    if (!fd) continue;
+    const double value = field.get(settings);
+    switch (field.type) {
+      case SettingType::kInt: reflection->SetInt32(&proto, fd, static_cast<int32_t>(value)); break;
+      case SettingType::kDouble: reflection->SetDouble(&proto, fd, value); break;
+      case SettingType::kBool: reflection->SetBool(&proto, fd, value != 0); break;
+      case SettingType::kChoice: reflection->SetEnumValue(&proto, fd, static_cast<int>(value) + 1); break;
+    }
+  }
+  return proto;
 }
 
 }  // namespace isocorr::api

@@ -1,8 +1,10 @@
 // isocorr.v1.MatchSettings <-> isocorr::MatchSettings, shared by the server and the client.
 // Unset proto fields keep the engine's defaults; the reverse direction sets every field.
+// Neither checks ranges (MatchSettings::validate does); settings_from_proto throws
+// InputError for an enum value this version does not know.
 #pragma once
 
-#include "isocorr/matching/matcher.h"
+#include "isocorr/settings/match_settings.h"
 #include "isocorr/v1/isocorr.pb.h"
 
 namespace isocorr::api {

@@ -6,6 +6,7 @@
 #include "api/call_guard.h"
 #include "api/paging.h"
 #include "api/resource_codec.h"
+#include "codec/result_part_codec.h"
 #include "codec/settings_codec.h"
 #include "service_error.h"
 
@@ -139,30 +140,34 @@ grpc::Status JobServiceImpl::DownloadResult(grpc::ServerContext* context, const 
     if (job.state != JobState::kSucceeded)
       throw ServiceError(Kind::kFailedPrecondition, "job " + request->name() + " is " + job_state_name(job.state) +
                                                         "; results exist only for SUCCEEDED jobs");
-    std::vector<v1::ResultPart> parts;
-    for (const int part : request->parts()) parts.push_back(static_cast<v1::ResultPart>(part));
-    if (parts.empty())
-      parts = {v1::FORWARD_MAP, v1::REVERSE_MAP, v1::FORWARD_CONFIDENCE, v1::REVERSE_CONFIDENCE, v1::REPORT_JSON};
+    std::vector<ResultPart> parts;
+    for (const int value : request->parts()) {
+      const std::optional<ResultPart> part = api::result_part_from_proto(value);
+      if (!part) throw ServiceError(Kind::kInvalidArgument, "unknown result part " + std::to_string(value));
+      parts.push_back(*part);
+    }
+    if (parts.empty()) parts.assign(kAllResultParts.begin(), kAllResultParts.end());
     const JobJournal& journal = jobs_.journal();
     auto add_index = [](v1::ResultChunk& chunk, int value) { chunk.add_indices(value); };
     auto add_value = [](v1::ResultChunk& chunk, float value) { chunk.add_values(value); };
-    for (const v1::ResultPart part : parts) {
+    for (const ResultPart part : parts) {
+      const v1::ResultPart proto_part = api::result_part_to_proto(part);
       bool written = true;
       switch (part) {
-        case v1::FORWARD_MAP: written = stream_elements(*writer, part, journal.read_indices(id, "forward"), add_index); break;
-        case v1::REVERSE_MAP: written = stream_elements(*writer, part, journal.read_indices(id, "reverse"), add_index); break;
-        case v1::FORWARD_CONFIDENCE:
-          written = stream_elements(*writer, part, journal.read_values(id, "forward_confidence"), add_value);
+        case ResultPart::kForwardMap:
+        case ResultPart::kReverseMap:
+          written = stream_elements(*writer, proto_part, journal.read_map(id, part), add_index);
           break;
-        case v1::REVERSE_CONFIDENCE:
-          written = stream_elements(*writer, part, journal.read_values(id, "reverse_confidence"), add_value);
+        case ResultPart::kForwardConfidence:
+        case ResultPart::kReverseConfidence:
+          written = stream_elements(*writer, proto_part, journal.read_confidence(id, part), add_value);
           break;
-        case v1::REPORT_JSON: {
+        case ResultPart::kReport: {
           const std::string report = journal.read_report(id);
           for (size_t offset = 0; written && (offset < report.size() || offset == 0);
                offset += kReportBytesPerChunk) {
             v1::ResultChunk chunk;
-            chunk.set_part(part);
+            chunk.set_part(proto_part);
             chunk.set_offset(static_cast<int64_t>(offset));
             chunk.set_total(static_cast<int64_t>(report.size()));
             chunk.set_data(report.substr(offset, kReportBytesPerChunk));
@@ -171,8 +176,6 @@ grpc::Status JobServiceImpl::DownloadResult(grpc::ServerContext* context, const 
           }
           break;
         }
-        default:
-          throw ServiceError(Kind::kInvalidArgument, "unknown result part " + std::to_string(part));
       }
       if (!written) return grpc::Status(grpc::StatusCode::CANCELLED, "client went away");
     }

@@ -65,7 +65,7 @@ v1::Job job_to_proto(const JobRecord& job) {
   if (job.end_time_ms && is_final(job.state)) set_time(proto.mutable_end_time(), job.end_time_ms);
   proto.set_attempts(job.attempts);
   if (job.state == JobState::kSucceeded) {
-    const JobSummary& s = job.summary;
+    const MatchSummary& s = job.summary;
     v1::MatchSummary* result = proto.mutable_result();
     result->set_source_vertex_count(s.source_vertices);
     result->set_target_vertex_count(s.target_vertices);

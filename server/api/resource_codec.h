@@ -4,7 +4,7 @@
 #include <string>
 
 #include "isocorr/v1/isocorr.pb.h"
-#include "jobs/job_record.h"
+#include "storage/job_record.h"
 #include "jobs/shape_cache.h"
 #include "storage/mesh_store.h"
 

@@ -1,25 +1,31 @@
-// What a worker does for one job: the meshes from the store, their preprocessing from the
-// shared cache, the engine's match, and the result in the form the journal stores.
+// What a worker does for one job: the engine's pipeline, with the shapes coming from the
+// mesh store through the shared shape cache. Nothing else: the pipeline is core's.
 #pragma once
 
-#include <string>
-
-#include "isocorr/matching/matcher.h"
-#include "isocorr/util/progress.h"
-#include "jobs/job_record.h"
+#include "isocorr/matching/pipeline.h"
 #include "jobs/shape_cache.h"
-#include "storage/job_journal.h"
+#include "storage/job_record.h"
 #include "storage/mesh_store.h"
 
 namespace isocorr::server {
 
-struct ExecutedJob {
-  JobResultFiles files;
-  JobSummary summary;
+// The shapes of one job: each read from the store and preprocessed once per cache key,
+// whichever job asks first; concurrent jobs wait for the same build.
+class CachedShapeProvider : public ShapeProvider {
+ public:
+  CachedShapeProvider(const JobRecord& job, MeshStore& meshes, ShapeCache& cache)
+      : job_(job), meshes_(meshes), cache_(cache) {}
+  std::shared_ptr<const PreprocessedShape> shape(ShapeRole role, const PreprocessOptions& options,
+                                                 const JobControl& control) override;
+
+ private:
+  const JobRecord& job_;
+  MeshStore& meshes_;
+  ShapeCache& cache_;
 };
 
-// Throws InputError (unusable mesh or settings), Cancelled (control's flag), ServiceError
-// (mesh deleted) or anything else for internal failures.
-ExecutedJob execute_match_job(const JobRecord& job, MeshStore& meshes, ShapeCache& cache, const JobControl& control);
+// Throws InputError (unusable mesh or settings, or a mesh deleted before the job ran),
+// Cancelled (control's flag), or anything else for internal failures.
+MatchResult execute_match_job(const JobRecord& job, MeshStore& meshes, ShapeCache& cache, const JobControl& control);
 
 }  // namespace isocorr::server

@@ -227,14 +227,12 @@ void JobManager::run(Slot& slot) {
   };
 
   JobRecord final_record = job;
-  final_record.end_time_ms = now_ms();
   try {
-    ExecutedJob executed = execute_match_job(job, meshes_, cache_, control);
-    journal_.save_result(job.id, executed.files);
+    const MatchResult result = execute_match_job(job, meshes_, cache_, control);
+    journal_.save_result(job.id, result.output);
     final_record.state = JobState::kSucceeded;
-    final_record.summary = std::move(executed.summary);
+    final_record.summary = result.summary();
     final_record.progress = {"done", 0, 0, 1.0};
-    final_record.end_time_ms = now_ms();
     spdlog::info("[job {}] succeeded: D_iso {:.4f}", job.id, final_record.summary.diso);
   } catch (const Cancelled&) {
     std::unique_lock lock(mutex_);
@@ -272,6 +270,7 @@ void JobManager::run(Slot& slot) {
 void JobManager::finish(Slot& slot, JobRecord final_record) {
   std::lock_guard lock(mutex_);
   final_record.version = slot.record.version;
+  final_record.end_time_ms = now_ms();  // whatever the outcome: the time the job ended
   try {
     journal_.save(final_record);  // durable before anyone can see it done
   } catch (const std::exception& e) {

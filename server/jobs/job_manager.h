@@ -18,7 +18,7 @@
 #include <thread>
 #include <vector>
 
-#include "jobs/job_record.h"
+#include "storage/job_record.h"
 #include "jobs/shape_cache.h"
 #include "storage/job_journal.h"
 #include "storage/mesh_store.h"

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <nlohmann/json.hpp>
 
+#include "isocorr/settings/settings_json.h"
 #include "storage/durable_file.h"
 
 namespace isocorr::server {
@@ -13,68 +14,12 @@ using nlohmann::json;
 
 namespace {
 
-// Every MatchSettings member, so a re-run after a restart uses exactly the same settings.
-json settings_to_json(const MatchSettings& s) {
-  return {{"level0_samples", s.level0_samples},
-          {"level0_extra_targets", s.level0_extra_targets},
-          {"max_level0_diso", s.max_level0_diso},
-          {"max_level0_maps", s.max_level0_maps},
-          {"min_tracked", s.min_tracked},
-          {"max_tracked", s.max_tracked},
-          {"selection", s.selection == SelectionRule::kLeastDistortion ? "least-diso" : "orientation"},
-          {"orientation_threshold", s.orientation_threshold},
-          {"orientation_margin", s.orientation_margin},
-          {"orientation_weight", s.orientation_weight},
-          {"handedness_guard", s.tracking.handedness_guard},
-          {"anchor_cap", s.tracking.anchor_cap},
-          {"trim_fraction", s.tracking.trim_fraction},
-          {"window_factor", s.tracking.window_factor},
-          {"dense_anchors", s.dense.anchor_count},
-          {"dense_outliers", s.dense.outlier_fraction},
-          {"dense_outlier_ratio", s.dense.outlier_ratio},
-          {"dense_refinement_rounds", s.dense.anchor_refinement_rounds},
-          {"dense_locality", s.dense.locality},
-          {"level0_radius", s.preprocess.level0_radius},
-          {"level_shrink", s.preprocess.level_shrink},
-          {"decision_level", s.preprocess.decision_level},
-          {"max_level0_samples", s.preprocess.max_level0_samples},
-          {"agd_sources", s.preprocess.saliency.agd_sources},
-          {"extremity_radius", s.preprocess.saliency.extremity_radius},
-          {"threads", s.threads}};
-}
-
-MatchSettings settings_from_json(const json& j) {
-  MatchSettings s;  // members missing from older records keep their defaults
-  auto read = [&](const char* key, auto& member) {
-    if (j.contains(key)) member = j.at(key).get<std::decay_t<decltype(member)>>();
-  };
-  read("level0_samples", s.level0_samples);
-  read("level0_extra_targets", s.level0_extra_targets);
-  read("max_level0_diso", s.max_level0_diso);
-  read("max_level0_maps", s.max_level0_maps);
-  read("min_tracked", s.min_tracked);
-  read("max_tracked", s.max_tracked);
-  if (j.value("selection", "orientation") == "least-diso") s.selection = SelectionRule::kLeastDistortion;
-  read("orientation_threshold", s.orientation_threshold);
-  read("orientation_margin", s.orientation_margin);
-  read("orientation_weight", s.orientation_weight);
-  read("handedness_guard", s.tracking.handedness_guard);
-  read("anchor_cap", s.tracking.anchor_cap);
-  read("trim_fraction", s.tracking.trim_fraction);
-  read("window_factor", s.tracking.window_factor);
-  read("dense_anchors", s.dense.anchor_count);
-  read("dense_outliers", s.dense.outlier_fraction);
-  read("dense_outlier_ratio", s.dense.outlier_ratio);
-  read("dense_refinement_rounds", s.dense.anchor_refinement_rounds);
-  read("dense_locality", s.dense.locality);
-  read("level0_radius", s.preprocess.level0_radius);
-  read("level_shrink", s.preprocess.level_shrink);
-  read("decision_level", s.preprocess.decision_level);
-  read("max_level0_samples", s.preprocess.max_level0_samples);
-  read("agd_sources", s.preprocess.saliency.agd_sources);
-  read("extremity_radius", s.preprocess.saliency.extremity_radius);
-  read("threads", s.threads);
-  return s;
+// A result part's file under results/<id>/.
+std::string part_file(ResultPart part) {
+  const char* extension = part == ResultPart::kReport                                              ? ".json"
+                          : part == ResultPart::kForwardMap || part == ResultPart::kReverseMap ? ".i32"
+                                                                                                 : ".f32";
+  return std::string(result_part_name(part)) + extension;
 }
 
 JobState state_from_name(const std::string& name) {
@@ -179,32 +124,34 @@ std::vector<JobRecord> JobJournal::load_all() const {
   return jobs;
 }
 
-void JobJournal::save_result(const std::string& id, const JobResultFiles& result) {
+void JobJournal::save_result(const std::string& id, const MatchOutput& result) {
   const fs::path final_dir = results_dir_ / id, temp_dir = results_dir_ / (id + ".tmp");
   fs::remove_all(temp_dir);
   fs::create_directories(temp_dir);
-  write_file_durably(temp_dir / "forward.i32", to_bytes(result.forward));
-  write_file_durably(temp_dir / "reverse.i32", to_bytes(result.reverse));
-  write_file_durably(temp_dir / "forward_confidence.f32", to_bytes(result.forward_confidence));
-  write_file_durably(temp_dir / "reverse_confidence.f32", to_bytes(result.reverse_confidence));
-  write_file_durably(temp_dir / "report.json", result.report_json);
+  write_file_durably(temp_dir / part_file(ResultPart::kForwardMap), to_bytes(result.forward));
+  write_file_durably(temp_dir / part_file(ResultPart::kReverseMap), to_bytes(result.reverse));
+  write_file_durably(temp_dir / part_file(ResultPart::kForwardConfidence), to_bytes(result.forward_confidence));
+  write_file_durably(temp_dir / part_file(ResultPart::kReverseConfidence), to_bytes(result.reverse_confidence));
+  write_file_durably(temp_dir / part_file(ResultPart::kReport), result.report_json);
   fs::remove_all(final_dir);
   fs::rename(temp_dir, final_dir);
   fsync_path(results_dir_);
 }
 
-bool JobJournal::has_result(const std::string& id) const { return fs::exists(results_dir_ / id / "report.json"); }
-
-std::vector<int> JobJournal::read_indices(const std::string& id, const std::string& part) const {
-  return from_bytes<int>(read_whole_file(results_dir_ / id / (part + ".i32")));
+bool JobJournal::has_result(const std::string& id) const {
+  return fs::exists(results_dir_ / id / part_file(ResultPart::kReport));
 }
 
-std::vector<float> JobJournal::read_values(const std::string& id, const std::string& part) const {
-  return from_bytes<float>(read_whole_file(results_dir_ / id / (part + ".f32")));
+std::vector<int> JobJournal::read_map(const std::string& id, ResultPart part) const {
+  return from_bytes<int>(read_whole_file(results_dir_ / id / part_file(part)));
+}
+
+std::vector<float> JobJournal::read_confidence(const std::string& id, ResultPart part) const {
+  return from_bytes<float>(read_whole_file(results_dir_ / id / part_file(part)));
 }
 
 std::string JobJournal::read_report(const std::string& id) const {
-  return read_whole_file(results_dir_ / id / "report.json");
+  return read_whole_file(results_dir_ / id / part_file(ResultPart::kReport));
 }
 
 }  // namespace isocorr::server

@@ -8,17 +8,10 @@
 #include <string>
 #include <vector>
 
-#include "isocorr/matching/matcher.h"
-#include "jobs/job_record.h"
+#include "isocorr/output/match_output.h"
+#include "storage/job_record.h"
 
 namespace isocorr::server {
-
-// The parts of a result, one file each (little-endian int32 / float32, JSON).
-struct JobResultFiles {
-  std::vector<int> forward, reverse;
-  std::vector<float> forward_confidence, reverse_confidence;
-  std::string report_json;
-};
 
 class JobJournal {
  public:
@@ -27,11 +20,13 @@ class JobJournal {
   void save(const JobRecord& job);
   std::vector<JobRecord> load_all() const;  // skips unreadable records (logged)
 
-  // Written into a temporary directory and renamed into place, so a result is whole or absent.
-  void save_result(const std::string& id, const JobResultFiles& result);
+  // results/<id>/ holds one file per part, named by result_part_name: little-endian int32
+  // maps (.i32), float32 confidence (.f32), the report (.json). Written into a temporary
+  // directory and renamed into place, so a result is whole or absent.
+  void save_result(const std::string& id, const MatchOutput& result);
   bool has_result(const std::string& id) const;
-  std::vector<int> read_indices(const std::string& id, const std::string& part) const;
-  std::vector<float> read_values(const std::string& id, const std::string& part) const;
+  std::vector<int> read_map(const std::string& id, ResultPart part) const;           // kForwardMap, kReverseMap
+  std::vector<float> read_confidence(const std::string& id, ResultPart part) const;  // k*Confidence
   std::string read_report(const std::string& id) const;
 
  private:

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "isocorr/mesh/mesh_cleaning.h"
 #include "isocorr/mesh/mesh_io.h"
 #include "isocorr/util/error.h"
 #include "service_error.h"
@@ -102,10 +103,15 @@ MeshInfo MeshUpload::commit() {
   MeshInfo info;
   try {
     const LoadedMesh loaded = parse_mesh(read_whole_file(temp_), filename_);
+    // What every job checks, with the default cleaning: an accepted upload can be matched
+    // unless a job's own cleaning settings are stricter.
+    const CleanMesh clean = clean_mesh(loaded.mesh);
+    check_matchable(clean);
     info.format = loaded.format;
     info.vertex_count = loaded.mesh.num_vertices();
     info.face_count = loaded.mesh.num_faces();
     info.notes = loaded.notes;
+    for (const auto& repair : clean.repairs) info.notes.push_back("cleaning: " + repair);
   } catch (const InputError& e) {
     throw ServiceError(Kind::kInvalidArgument, "not a usable mesh: " + std::string(e.what()));
   }

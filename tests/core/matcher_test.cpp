@@ -1,6 +1,6 @@
 // The whole engine on a shape with a known answer: an asymmetric mesh against a rotated,
 // scaled, renumbered copy of itself must give the permutation back.
-#include "isocorr/matching/matcher.h"
+#include "isocorr/matching/pipeline.h"
 
 #include <atomic>
 
@@ -31,14 +31,14 @@ TEST_F(MatcherOnBlob, RecoversThePermutation) {
   MatchSettings settings;
   settings.threads = 2;
   const MatchResult result = match_meshes(*blob_, copy_->mesh, settings);
-  ASSERT_EQ(result.forward.size(), blob_->vertices.size());
-  ASSERT_EQ(result.reverse.size(), blob_->vertices.size());
+  ASSERT_EQ(result.output.forward.size(), blob_->vertices.size());
+  ASSERT_EQ(result.output.reverse.size(), blob_->vertices.size());
 
   const MeshTopology topology(copy_->mesh);
   int exact = 0, within_ring = 0;
-  for (size_t v = 0; v < result.forward.size(); ++v) {
+  for (size_t v = 0; v < result.output.forward.size(); ++v) {
     const int truth = copy_->permutation[v];
-    const int got = result.forward[v];
+    const int got = result.output.forward[v];
     if (got == truth) {
       ++exact;
       continue;
@@ -46,14 +46,14 @@ TEST_F(MatcherOnBlob, RecoversThePermutation) {
     for (const int* w = topology.neighbours_begin(truth); w != topology.neighbours_end(truth); ++w)
       if (*w == got) ++within_ring;
   }
-  const int n = static_cast<int>(result.forward.size());
+  const int n = static_cast<int>(result.output.forward.size());
   EXPECT_GE(exact, 0.99 * n) << "exact " << exact << " of " << n;
   EXPECT_EQ(exact + within_ring, n);
   EXPECT_GT(result.dense_orientation, 0.9);
 
   // The reverse map is the inverse permutation on the same terms.
   int reverse_exact = 0;
-  for (size_t v = 0; v < result.forward.size(); ++v) reverse_exact += result.reverse[copy_->permutation[v]] == static_cast<int>(v);
+  for (size_t v = 0; v < result.output.forward.size(); ++v) reverse_exact += result.output.reverse[copy_->permutation[v]] == static_cast<int>(v);
   EXPECT_GE(reverse_exact, 0.99 * n);
 }
 
@@ -63,8 +63,8 @@ TEST_F(MatcherOnBlob, ResultDoesNotDependOnThreadCount) {
   two.threads = 2;
   const MatchResult a = match_meshes(*blob_, copy_->mesh, one);
   const MatchResult b = match_meshes(*blob_, copy_->mesh, two);
-  EXPECT_EQ(a.forward, b.forward);
-  EXPECT_EQ(a.reverse, b.reverse);
+  EXPECT_EQ(a.output.forward, b.output.forward);
+  EXPECT_EQ(a.output.reverse, b.output.reverse);
   EXPECT_EQ(a.chosen, b.chosen);
 }
 
@@ -102,8 +102,8 @@ TEST(MatcherSelfMatch, IdentityComesBack) {
   const TriangleMesh blob = limbed_blob(3);
   const MatchResult result = match_meshes(blob, blob, MatchSettings{});
   int exact = 0;
-  for (size_t v = 0; v < result.forward.size(); ++v) exact += result.forward[v] == static_cast<int>(v);
-  EXPECT_GE(exact, 0.99 * result.forward.size());
+  for (size_t v = 0; v < result.output.forward.size(); ++v) exact += result.output.forward[v] == static_cast<int>(v);
+  EXPECT_GE(exact, 0.99 * result.output.forward.size());
   EXPECT_LT(result.diso, 1e-3);
 }
 

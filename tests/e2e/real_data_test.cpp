@@ -7,7 +7,7 @@
 #include "isocorr/eval/ground_truth.h"
 #include "isocorr/eval/metrics.h"
 #include "isocorr/geodesic/geodesic_diameter.h"
-#include "isocorr/matching/matcher.h"
+#include "isocorr/matching/pipeline.h"
 #include "isocorr/mesh/mesh_io.h"
 
 #ifndef ISOCORR_SHARED_DATA_DIR
@@ -28,7 +28,7 @@ GroundTruthScore match_and_score(const std::string& dataset, const std::string& 
   const GroundTruth truth = load_ground_truth(dir, pair, s.mesh.num_vertices(), t.mesh.num_vertices());
   const MeshTopology topology(t.mesh);
   const FastMarching geodesics(t.mesh, topology);
-  return score_against_ground_truth(t.mesh, geodesics, estimate_geodesic_diameter(geodesics), result.forward,
+  return score_against_ground_truth(t.mesh, geodesics, estimate_geodesic_diameter(geodesics), result.output.forward,
                                     truth, EvaluationOptions{});
 }
 

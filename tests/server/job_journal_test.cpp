@@ -34,7 +34,7 @@ TEST_F(JobJournalTest, RecordsAndResultsSurviveReopening) {
   job.attempts = 2;
   job.summary.diso = 0.125;
   job.summary.timings = {{"dense", 1.5}};
-  JobResultFiles result;
+  MatchOutput result;
   result.forward = {2, 0, 1};
   result.reverse = {1, 2, 0};
   result.forward_confidence = {0.5f, 0.25f, 0.125f};
@@ -65,9 +65,10 @@ TEST_F(JobJournalTest, RecordsAndResultsSurviveReopening) {
   EXPECT_EQ(back.summary.timings[0].stage, "dense");
 
   EXPECT_TRUE(reopened.has_result(job.id));
-  EXPECT_EQ(reopened.read_indices(job.id, "forward"), result.forward);
-  EXPECT_EQ(reopened.read_indices(job.id, "reverse"), result.reverse);
-  EXPECT_EQ(reopened.read_values(job.id, "forward_confidence"), result.forward_confidence);
+  EXPECT_EQ(reopened.read_map(job.id, ResultPart::kForwardMap), result.forward);
+  EXPECT_EQ(reopened.read_map(job.id, ResultPart::kReverseMap), result.reverse);
+  EXPECT_EQ(reopened.read_confidence(job.id, ResultPart::kForwardConfidence), result.forward_confidence);
+  EXPECT_EQ(reopened.read_confidence(job.id, ResultPart::kReverseConfidence), result.reverse_confidence);
   EXPECT_EQ(reopened.read_report(job.id), result.report_json);
 }
 

@@ -35,6 +35,20 @@ json last_json(const CommandRun& run) {
 
 std::string error_code(const CommandRun& run) { return last_json(run).value("error", json::object()).value("code", ""); }
 
+// "2026-11-23T11:22:33.456Z" (proto3 JSON timestamp) -> milliseconds since midnight.
+int64_t milliseconds_of_day(const std::string& timestamp) {
+  const size_t t = timestamp.find('T');
+  const int hours = std::stoi(timestamp.substr(t + 1, 2)), minutes = std::stoi(timestamp.substr(t + 4, 2));
+  const double seconds = std::stod(timestamp.substr(t + 7, timestamp.size() - t - 8));
+  return (hours * 60 + minutes) * 60000 + static_cast<int64_t>(seconds * 1000);
+}
+
+// End minus start of two such timestamps taken less than a day apart.
+int64_t elapsed_ms(const std::string& start, const std::string& end) {
+  const int64_t ms = milliseconds_of_day(end) - milliseconds_of_day(start);
+  return ms < 0 ? ms + 24 * 3600 * 1000 : ms;
+}
+
 std::vector<int> read_ints(const fs::path& path) {
   std::vector<int> values;
   std::ifstream in(path);
@@ -66,6 +80,8 @@ class Service : public ::testing::Test {
     // preprocess, so jobs on it are still running when the tests cancel or kill them.
     write_ascii_off(*dir_ / "sphere.off", icosphere(7));
     std::ofstream(*dir_ / "broken.off") << "OFF\n3 1 0\n0 0 0\n1 0 0\n";
+    std::ofstream(*dir_ / "tetrahedron.off")
+        << "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
     std::ofstream(*dir_ / "token") << "s3cret-token\n";
     std::ofstream(*dir_ / "wrong_token") << "guess\n";
   }
@@ -191,11 +207,14 @@ TEST_F(Service, CancelEndsJobCancelled) {
   ASSERT_EQ(submit.exit_code, 0) << submit.err;
   const std::string job = last_json(submit)["name"];
   wait_until_running(server, job);
+  std::this_thread::sleep_for(std::chrono::milliseconds(400));
   ASSERT_EQ(server.client("cancel " + job).exit_code, 0);
   const CommandRun wait = server.client("wait " + job + " --json");
   EXPECT_EQ(wait.exit_code, 4);
   EXPECT_EQ(last_json(wait)["state"], "CANCELLED");
   EXPECT_EQ(last_json(wait)["error"]["code"], 1);  // google.rpc.Code CANCELLED
+  // The end time is when the job ended, not when it started.
+  EXPECT_GE(elapsed_ms(last_json(wait)["start_time"], last_json(wait)["end_time"]), 400);
 
   const CommandRun again = server.client("cancel " + job + " --json");
   EXPECT_EQ(again.exit_code, 2);
@@ -225,6 +244,19 @@ TEST_F(Service, ErrorsHaveTheirStatusCodes) {
   const CommandRun bad_setting = server.client("submit " + path("creature.ply").string() + " " +
                                                path("creature.ply").string() + " --level0-samples 2 --json");
   EXPECT_EQ(error_code(bad_setting), "INVALID_ARGUMENT");
+  // A preprocessing setting out of range is refused at once, naming the field, not
+  // accepted as a job that fails later.
+  const CommandRun bad_radius = server.client("submit " + path("creature.ply").string() + " " +
+                                              path("creature.ply").string() + " --level0-radius 5 --json");
+  EXPECT_EQ(error_code(bad_radius), "INVALID_ARGUMENT");
+  EXPECT_NE(last_json(bad_radius)["error"]["message"].get<std::string>().find("level0_radius"), std::string::npos);
+
+  // A mesh that parses but cannot be matched (a tetrahedron: too few vertices) is refused
+  // at upload, not accepted and failed by every job that uses it.
+  const CommandRun tiny = server.client("upload " + path("tetrahedron.off").string() + " --json");
+  EXPECT_EQ(tiny.exit_code, 2);
+  EXPECT_EQ(error_code(tiny), "INVALID_ARGUMENT");
+  EXPECT_NE(last_json(tiny)["error"]["message"].get<std::string>().find("at least 16"), std::string::npos);
 
   // One queued job at most: of three submissions, the second or third finds the queue full.
   const std::string sphere = path("sphere.off").string();

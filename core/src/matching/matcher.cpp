@@ -1,27 +1,12 @@
 #include "isocorr/matching/matcher.h"
 
 #include <algorithm>
-#include <chrono>
 
 #include "isocorr/matching/orientation.h"
 #include "isocorr/util/parallel.h"
 
 namespace isocorr {
 namespace {
-
-class StageClock {
- public:
-  explicit StageClock(std::vector<StageTiming>& timings) : timings_(timings) {}
-  void finish(const std::string& stage) {
-    const auto now = std::chrono::steady_clock::now();
-    timings_.push_back({stage, std::chrono::duration<double>(now - start_).count()});
-    start_ = now;
-  }
-
- private:
-  std::vector<StageTiming>& timings_;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-};
 
 Eigen::MatrixXd sample_distances(const PreprocessedShape& shape, int count) {
   Eigen::MatrixXd d(count, count);
@@ -54,36 +39,8 @@ int choose_tracked(const std::vector<TrackedMap>& tracked, const MatchSettings& 
 
 }  // namespace
 
-void MatchSettings::validate() const {
-  if (level0_samples != 0 && (level0_samples < 3 || level0_samples > 10))
-    throw InputError("level-0 sample count M must be 0 (automatic) or lie in [3, 10]");
-  if (level0_extra_targets < 0 || level0_extra_targets > 3)
-    throw InputError("extra level-0 target samples (M' - M) must lie in [0, 3]");
-  if (std::max(level0_samples, 7) + level0_extra_targets > preprocess.max_level0_samples)
-    throw InputError("M + (M' - M) exceeds the level-0 samples kept per mesh (" +
-                     std::to_string(preprocess.max_level0_samples) + ")");
-  if (max_level0_diso <= 0 || max_level0_diso > 1) throw InputError("max level-0 D_iso must lie in (0, 1]");
-  if (max_level0_maps < 1) throw InputError("max level-0 maps must be at least 1");
-  if (min_tracked < 1 || max_tracked < min_tracked) throw InputError("need 1 <= min tracked <= max tracked");
-  if (orientation_threshold < 0 || orientation_threshold > 1)
-    throw InputError("orientation threshold must lie in [0, 1]");
-  if (orientation_margin < 0 || orientation_margin > 1)
-    throw InputError("orientation margin must lie in [0, 1]");
-  if (orientation_weight < 0 || orientation_weight > 1)
-    throw InputError("orientation weight must lie in [0, 1]");
-  if (tracking.anchor_cap < 3) throw InputError("anchor cap must be at least 3");
-  if (tracking.trim_fraction < 0 || tracking.trim_fraction >= 0.9)
-    throw InputError("trim fraction must lie in [0, 0.9)");
-  if (tracking.window_factor <= 0) throw InputError("window factor must be positive");
-  if (dense.anchor_count < 3) throw InputError("dense anchor count E must be at least 3");
-  if (dense.outlier_fraction < 0 || dense.outlier_fraction >= 1)
-    throw InputError("dense outlier fraction must lie in [0, 1)");
-  if (dense.outlier_ratio < 1) throw InputError("dense outlier ratio must be at least 1");
-}
-
 MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShape& target,
                          const MatchSettings& settings, const JobControl& control) {
-  settings.validate();
   MatchResult result;
   StageClock clock(result.timings);
   const int levels = std::min(source.options().decision_level, target.options().decision_level);
@@ -135,19 +92,20 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
   // Back to the files' numbering.
   const CleanMesh& sc = source.clean();
   const CleanMesh& tc = target.clean();
-  result.forward.resize(sc.input_to_clean.size());
-  result.forward_confidence.resize(sc.input_to_clean.size());
+  MatchOutput& out = result.output;
+  out.forward.resize(sc.input_to_clean.size());
+  out.forward_confidence.resize(sc.input_to_clean.size());
   for (size_t i = 0; i < sc.input_to_clean.size(); ++i) {
     const int c = sc.input_to_clean[i];
-    result.forward[i] = tc.clean_to_input[dense.forward[c]];
-    result.forward_confidence[i] = dense.forward_diso[c];
+    out.forward[i] = tc.clean_to_input[dense.forward[c]];
+    out.forward_confidence[i] = dense.forward_diso[c];
   }
-  result.reverse.resize(tc.input_to_clean.size());
-  result.reverse_confidence.resize(tc.input_to_clean.size());
+  out.reverse.resize(tc.input_to_clean.size());
+  out.reverse_confidence.resize(tc.input_to_clean.size());
   for (size_t i = 0; i < tc.input_to_clean.size(); ++i) {
     const int c = tc.input_to_clean[i];
-    result.reverse[i] = sc.clean_to_input[dense.reverse[c]];
-    result.reverse_confidence[i] = dense.reverse_diso[c];
+    out.reverse[i] = sc.clean_to_input[dense.reverse[c]];
+    out.reverse_confidence[i] = dense.reverse_diso[c];
   }
   double sum = 0, worst = 0;
   for (float d : dense.forward_diso) sum += d, worst = std::max(worst, static_cast<double>(d));
@@ -161,22 +119,19 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
   return result;
 }
 
-MatchResult match_meshes(const TriangleMesh& source, const TriangleMesh& target,
-                         const MatchSettings& settings, const JobControl& control) {
-  settings.validate();
-  std::vector<StageTiming> timings;
-  StageClock clock(timings);
-  PreprocessOptions options = settings.preprocess;
-  options.threads = settings.threads;
-  control.report({"preprocess-source", 0, 0, 0.0});
-  const auto source_shape = PreprocessedShape::build(source, options, control);
-  clock.finish("preprocess-source");
-  control.report({"preprocess-target", 0, 0, 0.0});
-  const auto target_shape = PreprocessedShape::build(target, options, control);
-  clock.finish("preprocess-target");
-  MatchResult result = match_shapes(*source_shape, *target_shape, settings, control);
-  result.timings.insert(result.timings.begin(), timings.begin(), timings.end());
-  return result;
+MatchSummary MatchResult::summary() const {
+  MatchSummary s;
+  s.source_vertices = static_cast<int>(output.forward.size());
+  s.target_vertices = static_cast<int>(output.reverse.size());
+  s.diso = diso;
+  s.diso_max = diso_max;
+  s.dense_orientation = dense_orientation;
+  s.level0_maps = static_cast<int>(level0.size());
+  s.tracked_maps = static_cast<int>(tracked.size());
+  s.chosen_level0_rank = tracked.empty() ? 0 : tracked[chosen].level0_rank;
+  s.timings = timings;
+  s.notes = notes;
+  return s;
 }
 
 }  // namespace isocorr

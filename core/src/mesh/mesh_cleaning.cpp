@@ -533,4 +533,10 @@ CleanMesh clean_mesh(const TriangleMesh& input, const CleaningOptions& options) 
   return result;
 }
 
+void check_matchable(const CleanMesh& clean) {
+  if (clean.mesh.num_vertices() < kMinMatchableVertices)
+    throw InputError(cat("the mesh has only ", clean.mesh.num_vertices(), " usable vertices; at least ",
+                         kMinMatchableVertices, " are needed to match"));
+}
+
 }  // namespace isocorr

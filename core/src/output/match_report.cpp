@@ -4,28 +4,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include "isocorr/settings/settings_json.h"
+
 namespace isocorr {
 
 std::string match_report_json(const MatchResult& result, const MatchSettings& settings) {
   using nlohmann::json;
   json report;
-  report["settings"] = {
-      {"level0_samples", settings.level0_samples},
-      {"level0_extra_targets", settings.level0_extra_targets},
-      {"max_level0_diso", settings.max_level0_diso},
-      {"min_tracked", settings.min_tracked},
-      {"max_tracked", settings.max_tracked},
-      {"selection", settings.selection == SelectionRule::kLeastDistortion ? "least-diso" : "orientation"},
-      {"orientation_threshold", settings.orientation_threshold},
-      {"orientation_margin", settings.orientation_margin},
-      {"anchor_cap", settings.tracking.anchor_cap},
-      {"window_factor", settings.tracking.window_factor},
-      {"trim_fraction", settings.tracking.trim_fraction},
-      {"dense_anchors", settings.dense.anchor_count},
-      {"level0_radius", settings.preprocess.level0_radius},
-      {"level_shrink", settings.preprocess.level_shrink},
-      {"decision_level", settings.preprocess.decision_level},
-  };
+  report["settings"] = settings_to_json(settings);
   json timings = json::object();
   double total = 0;
   for (const auto& t : result.timings) timings[t.stage] = t.seconds, total += t.seconds;
@@ -46,8 +32,8 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
   report["chosen"] = result.chosen;
   report["final"] = {{"diso", result.diso}, {"diso_max", result.diso_max},
                      {"orientation", result.dense_orientation},
-                     {"source_vertices", result.forward.size()},
-                     {"target_vertices", result.reverse.size()}};
+                     {"source_vertices", result.output.forward.size()},
+                     {"target_vertices", result.output.reverse.size()}};
   report["notes"] = result.notes;
   return report.dump(2);
 }

@@ -2,41 +2,29 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "isocorr/sampling/salient_sampling.h"
+#include "isocorr/settings/settings_schema.h"
 #include "isocorr/util/parallel.h"
 
 namespace isocorr {
 
 std::string PreprocessOptions::key() const {
-  std::ostringstream out;
-  out << "agd" << saliency.agd_sources << "/ext" << saliency.extremity_radius << "/weld"
-      << cleaning.weld_tolerance << "/largest" << cleaning.keep_largest_component << "/r0"
-      << level0_radius << "/shrink" << level_shrink << "/k1" << decision_level << "/m"
-      << max_level0_samples;
-  return out.str();
+  MatchSettings settings;
+  settings.preprocess = *this;
+  return settings_key(settings, SettingScope::kPreprocess);
 }
 
 std::shared_ptr<const PreprocessedShape> PreprocessedShape::build(const TriangleMesh& input,
                                                                   const PreprocessOptions& options,
                                                                   const JobControl& control) {
-  if (options.level0_radius <= 0 || options.level0_radius >= 1)
-    throw InputError("level-0 radius must lie in (0, 1) (fraction of the geodesic diameter)");
-  if (options.level_shrink <= 0 || options.level_shrink >= 1)
-    throw InputError("level shrink factor must lie in (0, 1)");
-  if (options.decision_level < 1 || options.decision_level > 12)
-    throw InputError("decision level K1 must lie in [1, 12]");
-  if (options.max_level0_samples < 3 || options.max_level0_samples > 12)
-    throw InputError("the number of level-0 samples must lie in [3, 12]");
+  validate_preprocess_options(options);
 
   std::shared_ptr<PreprocessedShape> shape(new PreprocessedShape());
   shape->options_ = options;
   shape->clean_ = clean_mesh(input, options.cleaning);
   const TriangleMesh& mesh = shape->clean_.mesh;
-  if (mesh.num_vertices() < 16)
-    throw InputError("mesh has only " + std::to_string(mesh.num_vertices()) +
-                     " usable vertices; at least 16 are needed to match");
+  check_matchable(shape->clean_);
   shape->topology_ = std::make_unique<MeshTopology>(mesh);
   shape->geodesics_ = std::make_unique<FastMarching>(mesh, *shape->topology_);
   shape->normals_ = vertex_normals(mesh);

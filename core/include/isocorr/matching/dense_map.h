@@ -21,7 +21,7 @@ struct DenseOptions {
   double outlier_ratio = 1.0;        // and only where their distortion exceeds this many medians
                                      // (1: the share, by rank, but none when all pairs agree)
   int anchor_refinement_rounds = 2;  // rounds moving anchor images to vertex accuracy
-  float locality = 0.05f;  // anchors weigh 1 / (distance + locality): near ones count more
+  double locality = 0.05;  // anchors weigh 1 / (distance + locality): near ones count more
                            // (0 = plain d_iso); distances are fractions of the diameter
   int threads = 0;
 };

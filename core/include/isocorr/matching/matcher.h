@@ -1,63 +1,31 @@
-// The whole pipeline for one pair: level-0 search -> flip tracking -> choice -> dense map.
+// Matching two preprocessed shapes: level-0 search -> flip tracking -> choice -> dense map.
+// pipeline.h wraps it with the preprocessing; most callers want that.
 #pragma once
 
-#include <memory>
 #include <string>
 #include <vector>
 
 #include "isocorr/matching/dense_map.h"
 #include "isocorr/matching/flip_tracking.h"
 #include "isocorr/matching/level0_search.h"
+#include "isocorr/output/match_output.h"
+#include "isocorr/settings/match_settings.h"
 #include "isocorr/shape/preprocessed_shape.h"
+#include "isocorr/util/stage_clock.h"
 
 namespace isocorr {
 
-enum class SelectionRule {
-  kOrientationThenDistortion,  // default: keep the tracked maps that best keep orientation, then least D_iso
-  kLeastDistortion,            // the paper's rule: least D_iso at level K1
-};
-
-struct MatchSettings {
-  PreprocessOptions preprocess;     // per-mesh part (cached per mesh by the service)
-  // M (paper: up to 8). 0 = automatic: the number of extremities of the source, within
-  // [5, 7]. Samples beyond the extremities are poorly aligned between two meshes and
-  // mislead tracking: on 12 SCAPE pairs M = 5 gave 75% flip-free against 58% for M = 7,
-  // while quadrupeds (7+ extremities) do best with M = 7.
-  int level0_samples = 0;
-  int level0_extra_targets = 1;     // M' - M (paper: 1; the prototype found more useless)
-  double max_level0_diso = 0.15;    // level-0 maps above this are not kept (paper: 0.15)
-  int max_level0_maps = 300;        // at most this many sorted level-0 maps are kept
-  // Bounds on N from the jump rule. The paper tracks exactly N, but tracking costs only
-  // milliseconds per map (it works on samples, not vertices), and on TOSCA the right map
-  // often sits far beyond N: tracking 16 / 48 / 96 maps gave 72% / 83% / 83% flip-free on
-  // tosca_isometric_5k, and 64 -> 192 maps took tosca_hires from 13 to 14 of 18 pairs
-  // (cat1 -> cat3's only right map ranks past 100). min_tracked = max_tracked = N
-  // restores the paper's behaviour.
-  int min_tracked = 192;
-  int max_tracked = 192;
-  SelectionRule selection = SelectionRule::kOrientationThenDistortion;
-  double orientation_threshold = 0.5;  // below this, no tracked map counts as orientation-preserving
-  double orientation_margin = 0.1;     // maps this close to the best orientation compete on D_iso
-  double orientation_weight = 0.025;   // ... on D_iso - weight * orientation agreement
-  TrackingOptions tracking;
-  DenseOptions dense;
-  int threads = 0;                  // 0 = all cores; results do not depend on it
-
-  // Throws InputError naming the first setting out of range.
-  void validate() const;
-};
-
-struct StageTiming {
-  std::string stage;
-  double seconds = 0;
+// The figures of a finished match that a job listing shows (the API's MatchSummary).
+struct MatchSummary {
+  int source_vertices = 0, target_vertices = 0;
+  double diso = 0, diso_max = 0, dense_orientation = 0;
+  int level0_maps = 0, tracked_maps = 0, chosen_level0_rank = 0;
+  std::vector<StageTiming> timings;
+  std::vector<std::string> notes;
 };
 
 struct MatchResult {
-  // In the input files' vertex numbering.
-  std::vector<int> forward;               // source vertex -> target vertex
-  std::vector<float> forward_confidence;  // d_iso of each forward pair
-  std::vector<int> reverse;               // target vertex -> source vertex
-  std::vector<float> reverse_confidence;
+  MatchOutput output;                     // maps, confidence and (from run_match) the report
 
   std::vector<Level0Map> level0;          // sorted by D_iso
   int tracked_by_jump_rule = 0;           // N before the min/max bounds
@@ -68,14 +36,14 @@ struct MatchResult {
   double dense_orientation = 0;           // fraction of source faces keeping handedness
   std::vector<StageTiming> timings;
   std::vector<std::string> notes;         // repairs and remarks, for the report
+
+  MatchSummary summary() const;
 };
 
-// Matches two preprocessed shapes. Deterministic for given inputs and settings.
+// Matches two preprocessed shapes. `settings` must have passed validate() (run_match
+// does that once). Deterministic for given inputs and settings. Reports progress as
+// fractions of the match alone.
 MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShape& target,
-                         const MatchSettings& settings, const JobControl& control = {});
-
-// Convenience: preprocesses both meshes (in the same way as the service) and matches them.
-MatchResult match_meshes(const TriangleMesh& source, const TriangleMesh& target,
                          const MatchSettings& settings, const JobControl& control = {});
 
 }  // namespace isocorr

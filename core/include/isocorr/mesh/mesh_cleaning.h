@@ -40,4 +40,12 @@ struct CleanMesh {
 // non-orientable surface.
 CleanMesh clean_mesh(const TriangleMesh& input, const CleaningOptions& options = {});
 
+// Matching needs level-0 samples far apart and a hierarchy below them: fewer vertices than
+// this after cleaning cannot be matched.
+inline constexpr int kMinMatchableVertices = 16;
+
+// Throws InputError unless a cleaned mesh can be matched. Every job checks it, and an
+// upload checks it with the default cleaning options, so an accepted upload can be matched.
+void check_matchable(const CleanMesh& clean);
+
 }  // namespace isocorr

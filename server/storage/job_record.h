@@ -24,14 +24,6 @@ struct JobProgressInfo {
   double fraction = 0;
 };
 
-struct JobSummary {
-  int source_vertices = 0, target_vertices = 0;
-  double diso = 0, diso_max = 0, dense_orientation = 0;
-  int level0_maps = 0, tracked_maps = 0, chosen_level0_rank = 0;
-  std::vector<StageTiming> timings;
-  std::vector<std::string> notes;
-};
-
 struct JobRecord {
   std::string id;  // the name is "jobs/" + id
   JobState state = JobState::kQueued;
@@ -40,7 +32,7 @@ struct JobRecord {
   JobProgressInfo progress;  // in memory only
   int64_t create_time_ms = 0, start_time_ms = 0, end_time_ms = 0;
   int attempts = 0;
-  JobSummary summary;        // when kSucceeded
+  MatchSummary summary;      // when kSucceeded
   ErrorCode error_code = ErrorCode::kInternal;  // when kFailed or kCancelled
   std::string error_message;
   uint64_t version = 0;      // bumped on every change; watchers wait for a new one

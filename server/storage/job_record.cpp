@@ -1,4 +1,4 @@
-#include "jobs/job_record.h"
+#include "storage/job_record.h"
 
 #include <chrono>
 

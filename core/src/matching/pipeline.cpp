@@ -1,0 +1,55 @@
+#include "isocorr/matching/pipeline.h"
+
+#include "isocorr/output/match_report.h"
+
+namespace isocorr {
+namespace {
+
+// Share of the progress bar taken by each side's preprocessing; the match has the rest.
+// A cached shape makes its share pass at once.
+constexpr double kPreprocessShare = 0.1;
+
+}  // namespace
+
+std::shared_ptr<const PreprocessedShape> MeshPairShapes::shape(ShapeRole role, const PreprocessOptions& options,
+                                                               const JobControl& control) {
+  const std::string key = (role == ShapeRole::kSource ? "source|" : "target|") + options.key();
+  auto& slot = built_[key];
+  if (!slot) slot = PreprocessedShape::build(role == ShapeRole::kSource ? source_ : target_, options, control);
+  return slot;
+}
+
+MatchResult run_match(ShapeProvider& shapes, const MatchSettings& settings, const JobControl& control) {
+  settings.validate();
+  PreprocessOptions options = settings.preprocess;
+  options.threads = settings.threads;  // the one thread rule: the match's setting, 0 = all cores
+
+  std::vector<StageTiming> timings;
+  StageClock clock(timings);
+  control.report({"preprocess-source", 0, 0, 0.0});
+  const auto source = shapes.shape(ShapeRole::kSource, options, control);
+  clock.finish("preprocess-source");
+  control.report({"preprocess-target", 0, 0, kPreprocessShare});
+  const auto target = shapes.shape(ShapeRole::kTarget, options, control);
+  clock.finish("preprocess-target");
+
+  JobControl match_control;
+  match_control.cancel_requested = control.cancel_requested;
+  match_control.on_progress = [&](const Progress& p) {
+    Progress scaled = p;
+    scaled.fraction = 2 * kPreprocessShare + (1 - 2 * kPreprocessShare) * p.fraction;
+    control.report(scaled);
+  };
+  MatchResult result = match_shapes(*source, *target, settings, match_control);
+  result.timings.insert(result.timings.begin(), timings.begin(), timings.end());
+  result.output.report_json = match_report_json(result, settings);
+  return result;
+}
+
+MatchResult match_meshes(const TriangleMesh& source, const TriangleMesh& target, const MatchSettings& settings,
+                         const JobControl& control) {
+  MeshPairShapes shapes(source, target);
+  return run_match(shapes, settings, control);
+}
+
+}  // namespace isocorr

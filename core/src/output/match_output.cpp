@@ -1,0 +1,16 @@
+#include "isocorr/output/match_output.h"
+
+namespace isocorr {
+
+std::string_view result_part_name(ResultPart part) {
+  switch (part) {
+    case ResultPart::kForwardMap: return "forward";
+    case ResultPart::kReverseMap: return "reverse";
+    case ResultPart::kForwardConfidence: return "forward_confidence";
+    case ResultPart::kReverseConfidence: return "reverse_confidence";
+    case ResultPart::kReport: return "report";
+  }
+  return "unknown";
+}
+
+}  // namespace isocorr

@@ -1,0 +1,271 @@
+#include "isocorr/settings/settings_schema.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <type_traits>
+
+#include "isocorr/util/error.h"
+
+namespace isocorr {
+namespace {
+
+constexpr double kNoLimit = std::numeric_limits<int>::max();
+
+SettingRange closed(double min, double max) { return {min, max, false, false}; }
+SettingRange open_closed(double min, double max) { return {min, max, true, false}; }
+SettingRange closed_open(double min, double max) { return {min, max, false, true}; }
+SettingRange open(double min, double max) { return {min, max, true, true}; }
+
+// One row: `access` is a generic lambda returning a reference to the member, so the
+// member's type decides the field's type and both directions are written once.
+template <class Access>
+SettingField row(std::string_view name, SettingScope scope, SettingRange range, std::string_view help,
+                 Access access, std::vector<std::string_view> choices = {}) {
+  using Member = std::remove_reference_t<decltype(access(std::declval<MatchSettings&>()))>;
+  SettingField field;
+  field.name = name;
+  field.help = help;
+  field.scope = scope;
+  field.range = range;
+  field.choices = std::move(choices);
+  if constexpr (std::is_same_v<Member, bool>) {
+    field.type = SettingType::kBool;
+    field.range = closed(0, 1);
+  } else if constexpr (std::is_enum_v<Member>) {
+    field.type = SettingType::kChoice;
+    field.range = closed(0, static_cast<double>(field.choices.size()) - 1);
+  } else if constexpr (std::is_integral_v<Member>) {
+    field.type = SettingType::kInt;
+  } else {
+    field.type = SettingType::kDouble;
+  }
+  field.get = [access](const MatchSettings& s) {
+    const Member value = access(const_cast<MatchSettings&>(s));
+    if constexpr (std::is_enum_v<Member>) return static_cast<double>(static_cast<int>(value));
+    else return static_cast<double>(value);
+  };
+  field.set = [access](MatchSettings& s, double value) {
+    if constexpr (std::is_enum_v<Member>) access(s) = static_cast<Member>(static_cast<int>(value));
+    else access(s) = static_cast<Member>(value);
+  };
+  return field;
+}
+
+constexpr SettingScope kMatch = SettingScope::kMatch;
+constexpr SettingScope kPreprocess = SettingScope::kPreprocess;
+
+std::vector<SettingField> build_schema() {
+  // Ranges are what the algorithms can run with, not what is sensible: the defaults and
+  // their measured reasons are beside the members.
+  return {
+      // Level 0.
+      row("level0_samples", kMatch, closed(0, 10),
+          "M: source samples at level 0 (0 = the number of source extremities, within [5, 7]; else at least 3)",
+          [](auto& s) -> auto& { return s.level0_samples; }),
+      row("level0_extra_targets", kMatch, closed(0, 3), "M' - M: extra target samples at level 0",
+          [](auto& s) -> auto& { return s.level0_extra_targets; }),
+      row("max_level0_diso", kMatch, open_closed(0, 1), "level-0 maps above this D_iso are dropped",
+          [](auto& s) -> auto& { return s.max_level0_diso; }),
+      row("max_level0_maps", kMatch, closed(1, kNoLimit), "keep at most this many sorted level-0 maps",
+          [](auto& s) -> auto& { return s.max_level0_maps; }),
+      // Tracking and the choice.
+      row("min_tracked", kMatch, closed(1, kNoLimit), "track at least this many level-0 maps",
+          [](auto& s) -> auto& { return s.min_tracked; }),
+      row("max_tracked", kMatch, closed(1, kNoLimit),
+          "track at most this many level-0 maps (the jump rule decides within)",
+          [](auto& s) -> auto& { return s.max_tracked; }),
+      row("selection", kMatch, {}, "choice among tracked maps: orientation, or least-diso (the paper's rule)",
+          [](auto& s) -> auto& { return s.selection; }, {"orientation", "least-diso"}),
+      row("orientation_threshold", kMatch, closed(0, 1),
+          "tracked maps keeping fewer triangles' handedness are mirrored",
+          [](auto& s) -> auto& { return s.orientation_threshold; }),
+      row("orientation_margin", kMatch, closed(0, 1),
+          "tracked maps this close to the best orientation compete on D_iso",
+          [](auto& s) -> auto& { return s.orientation_margin; }),
+      row("orientation_weight", kMatch, closed(0, 1),
+          "among those, the choice minimises D_iso - weight * orientation agreement",
+          [](auto& s) -> auto& { return s.orientation_weight; }),
+      row("handedness_guard", kMatch, {},
+          "tracking only accepts images that keep the handedness of nearby pairs",
+          [](auto& s) -> auto& { return s.tracking.handedness_guard; }),
+      row("pool_all_levels", kMatch, {}, "tracking offers every target sample at every level",
+          [](auto& s) -> auto& { return s.tracking.pool_all_levels; }),
+      row("anchor_cap", kMatch, closed(3, kNoLimit), "anchors used for d_iso while tracking",
+          [](auto& s) -> auto& { return s.tracking.anchor_cap; }),
+      row("trim_fraction", kMatch, closed_open(0, 0.9),
+          "share of the worst d_iso terms ignored when matching a sample",
+          [](auto& s) -> auto& { return s.tracking.trim_fraction; }),
+      row("window_factor", kMatch, open_closed(0, 1000),
+          "search window around the parent's image, in parent distances",
+          [](auto& s) -> auto& { return s.tracking.window_factor; }),
+      // Dense level.
+      row("dense_anchors", kMatch, closed(3, kNoLimit), "E: anchors describing each vertex in the dense level",
+          [](auto& s) -> auto& { return s.dense.anchor_count; }),
+      row("dense_outliers", kMatch, closed_open(0, 1),
+          "at most this share of the tracked pairs is dropped as dense anchors",
+          [](auto& s) -> auto& { return s.dense.outlier_fraction; }),
+      row("dense_outlier_ratio", kMatch, closed(1, kNoLimit),
+          "... and only pairs whose distortion exceeds this many medians",
+          [](auto& s) -> auto& { return s.dense.outlier_ratio; }),
+      row("dense_refinement_rounds", kMatch, closed(0, 20), "rounds moving dense anchor images to vertex accuracy",
+          [](auto& s) -> auto& { return s.dense.anchor_refinement_rounds; }),
+      row("dense_locality", kMatch, closed(0, 10),
+          "dense level: anchors weigh 1/(distance + this); 0 = plain d_iso",
+          [](auto& s) -> auto& { return s.dense.locality; }),
+      // Per-mesh preprocessing.
+      row("level0_radius", kPreprocess, open(0, 1), "level-0 sampling radius, fraction of the geodesic diameter",
+          [](auto& s) -> auto& { return s.preprocess.level0_radius; }),
+      row("level_shrink", kPreprocess, open(0, 1), "sampling radius factor between levels",
+          [](auto& s) -> auto& { return s.preprocess.level_shrink; }),
+      row("decision_level", kPreprocess, closed(1, 12), "K1: level at which tracked maps are compared",
+          [](auto& s) -> auto& { return s.preprocess.decision_level; }),
+      row("max_level0_samples", kPreprocess, closed(3, 12), "level-0 samples kept per mesh (M' is at most this)",
+          [](auto& s) -> auto& { return s.preprocess.max_level0_samples; }),
+      row("agd_sources", kPreprocess, closed(1, 10000), "farthest-point fields averaged for saliency",
+          [](auto& s) -> auto& { return s.preprocess.saliency.agd_sources; }),
+      row("extremity_radius", kPreprocess, open_closed(0, 1),
+          "radius within which an extremity is the AGD maximum, fraction of the diameter",
+          [](auto& s) -> auto& { return s.preprocess.saliency.extremity_radius; }),
+      row("weld_tolerance", kPreprocess, closed(0, 0.01),
+          "open-surface vertices closer than this fraction of the bounding-box diagonal are welded",
+          [](auto& s) -> auto& { return s.preprocess.cleaning.weld_tolerance; }),
+      row("keep_largest_component", kPreprocess, {},
+          "keep the largest connected component (else several components are an error)",
+          [](auto& s) -> auto& { return s.preprocess.cleaning.keep_largest_component; }),
+      row("repair_non_manifold_edges", kPreprocess, {},
+          "repair edges shared by more than two faces (else they are an error)",
+          [](auto& s) -> auto& { return s.preprocess.cleaning.repair_non_manifold_edges; }),
+      // This process.
+      row("threads", SettingScope::kLocal, closed(0, 1024), "worker threads (0 = all cores); results do not depend on it",
+          [](auto& s) -> auto& { return s.threads; }),
+  };
+}
+
+std::string format_number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
+}
+
+}  // namespace
+
+bool SettingRange::contains(double value) const {
+  if (std::isnan(value)) return false;
+  const bool above = min_open ? value > min : value >= min;
+  const bool below = max_open ? value < max : value <= max;
+  return above && below;
+}
+
+std::string SettingRange::describe() const {
+  auto bound = [](double v) { return v >= kNoLimit ? std::string("inf") : format_number(v); };
+  return std::string(min_open ? "(" : "[") + bound(min) + ", " + bound(max) + (max_open || max >= kNoLimit ? ")" : "]");
+}
+
+std::string SettingField::flag() const {
+  std::string text = "--" + std::string(name);
+  std::replace(text.begin(), text.end(), '_', '-');
+  return text;
+}
+
+std::string SettingField::format(const MatchSettings& settings) const {
+  const double value = get(settings);
+  switch (type) {
+    case SettingType::kBool: return value != 0 ? "true" : "false";
+    case SettingType::kChoice: return std::string(choices.at(static_cast<size_t>(value)));
+    case SettingType::kInt: return std::to_string(static_cast<long long>(value));
+    case SettingType::kDouble: break;
+  }
+  return format_number(value);
+}
+
+void SettingField::parse(MatchSettings& settings, const std::string& text) const {
+  auto bad = [&](const std::string& expected) {
+    return InputError("setting " + std::string(name) + ": '" + text.substr(0, 40) + "' is not " + expected);
+  };
+  switch (type) {
+    case SettingType::kBool:
+      if (text == "true" || text == "1" || text == "yes" || text == "on") return set(settings, 1);
+      if (text == "false" || text == "0" || text == "no" || text == "off") return set(settings, 0);
+      throw bad("true or false");
+    case SettingType::kChoice:
+      for (size_t i = 0; i < choices.size(); ++i)
+        if (text == choices[i]) return set(settings, static_cast<double>(i));
+      {
+        std::string names;
+        for (const auto c : choices) names += (names.empty() ? "" : ", ") + std::string(c);
+        throw bad("one of " + names);
+      }
+    case SettingType::kInt: {
+      long long value = 0;
+      const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+      if (error != std::errc() || end != text.data() + text.size() || text.empty()) throw bad("an integer");
+      if (value < std::numeric_limits<int>::min() || value > std::numeric_limits<int>::max())
+        throw bad("an integer within 32 bits");
+      return set(settings, static_cast<double>(value));
+    }
+    case SettingType::kDouble: {
+      double value = 0;
+      const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+      if (error != std::errc() || end != text.data() + text.size() || text.empty() || !std::isfinite(value))
+        throw bad("a finite number");
+      return set(settings, value);
+    }
+  }
+}
+
+void SettingField::check(const MatchSettings& settings) const {
+  if (type == SettingType::kBool || type == SettingType::kChoice) return;  // every value is valid
+  const double value = get(settings);
+  if (!range.contains(value))
+    throw InputError("setting " + std::string(name) + " = " + format(settings) + " is out of range " +
+                     range.describe());
+}
+
+const std::vector<SettingField>& settings_schema() {
+  static const std::vector<SettingField> schema = build_schema();
+  return schema;
+}
+
+const SettingField* find_setting(std::string_view name) {
+  for (const auto& field : settings_schema())
+    if (field.name == name) return &field;
+  return nullptr;
+}
+
+std::string settings_key(const MatchSettings& settings, SettingScope scope) {
+  std::string key;
+  for (const auto& field : settings_schema())
+    if (field.scope == scope) key += std::string(field.name) + "=" + field.format(settings) + ";";
+  return key;
+}
+
+void validate_preprocess_options(const PreprocessOptions& options) {
+  MatchSettings settings;
+  settings.preprocess = options;
+  for (const auto& field : settings_schema())
+    if (field.scope == SettingScope::kPreprocess) field.check(settings);
+}
+
+bool same_settings(const MatchSettings& a, const MatchSettings& b) {
+  for (const auto& field : settings_schema())
+    if (field.get(a) != field.get(b)) return false;
+  return true;
+}
+
+void MatchSettings::validate() const {
+  for (const auto& field : settings_schema()) field.check(*this);
+  if (level0_samples != 0 && level0_samples < 3)
+    throw InputError("setting level0_samples = " + std::to_string(level0_samples) +
+                     ": M must be 0 (automatic) or at least 3");
+  if (max_tracked < min_tracked)
+    throw InputError("setting max_tracked = " + std::to_string(max_tracked) + " is below min_tracked = " +
+                     std::to_string(min_tracked));
+  if (std::max(level0_samples, 7) + level0_extra_targets > preprocess.max_level0_samples)
+    throw InputError("settings level0_samples + level0_extra_targets (M') exceed max_level0_samples = " +
+                     std::to_string(preprocess.max_level0_samples) + ", the level-0 samples kept per mesh");
+}
+
+}  // namespace isocorr
