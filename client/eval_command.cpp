@@ -8,6 +8,7 @@
 #include "isocorr/eval/ground_truth.h"
 #include "isocorr/eval/metrics.h"
 #include "isocorr/mesh/mesh_io.h"
+#include "isocorr/output/map_files.h"
 #include "isocorr/util/error.h"
 #include "isocorr/geodesic/geodesic_diameter.h"
 
@@ -29,11 +30,11 @@ int run_eval(const EvalArguments& args) {
       if (pair.gt_kind.empty())
         throw InputError("pair not in " + args.dataset + "/pairs.tsv; give --gt-kind");
     }
-    const std::vector<int> forward = read_vertex_map(args.map);
+    const std::vector<int> forward = read_map(args.map);
     const LoadedMesh source = load_mesh(pair.source_path);
     const LoadedMesh target = load_mesh(pair.target_path);
     if (static_cast<int>(forward.size()) != source.mesh.num_vertices())
-      throw InputError("map has " + std::to_string(forward.size()) + " lines but the source has " +
+      throw InputError("map has " + std::to_string(forward.size()) + " entries but the source has " +
                        std::to_string(source.mesh.num_vertices()) + " vertices");
     for (int t : forward)
       if (t >= target.mesh.num_vertices())

@@ -5,8 +5,8 @@
 #include <sstream>
 
 #include "isocorr/util/error.h"
+#include "isocorr/util/sha256.h"
 #include "remote/rpc_error.h"
-#include "storage/sha256.h"
 
 namespace isocorr::cli {
 namespace {
@@ -25,7 +25,7 @@ std::string read_file(const std::string& path) {
 
 UploadOutcome ensure_uploaded(Connection& connection, const std::string& path) {
   const std::string bytes = read_file(path);
-  server::Sha256 hasher;
+  Sha256 hasher;
   hasher.update(bytes);
   const std::string digest = hasher.hex_digest();
 

@@ -1,7 +1,7 @@
 #include "api/resource_codec.h"
 
 #include "codec/settings_codec.h"
-#include "storage/sha256.h"
+#include "isocorr/util/sha256.h"
 
 namespace isocorr::server {
 namespace {

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "storage/sha256.h"
+#include "isocorr/util/sha256.h"
 
 namespace isocorr::server {
 

@@ -83,6 +83,24 @@ TEST_F(MatchCommand, WritesMapsAndReportThatEvalScores) {
   EXPECT_LT(score["d_grd"].get<double>(), 0.01);
 }
 
+TEST_F(MatchCommand, EvalReadsTheBinaryMapMatchWrites) {
+  const fs::path map = *dir_ / "out.bin";
+  const CommandRun match = run_command(cli_ + " match " + (*dir_ / "meshes/creature.ply").string() + " " +
+                                       (*dir_ / "meshes/creature_moved.ply").string() + " -o " + map.string());
+  ASSERT_EQ(match.exit_code, 0) << match.output;
+  const std::string pair =
+      " --dataset " + dir_->string() + " --source meshes/creature.ply --target meshes/creature_moved.ply";
+  const CommandRun eval = run_command(cli_ + " eval " + map.string() + pair + " --json");
+  ASSERT_EQ(eval.exit_code, 0) << eval.output;
+  EXPECT_LT(nlohmann::json::parse(eval.output.substr(eval.output.find('{')))["d_grd"].get<double>(), 0.01);
+
+  const fs::path cut = *dir_ / "cut.bin";  // declares 5 indices, holds one
+  std::ofstream(cut, std::ios::binary) << std::string("ICMAP1\0\0\5\0\0\0\1\0\0\0", 16);
+  const CommandRun refused = run_command(cli_ + " eval " + cut.string() + pair);
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.output.find("truncated"), std::string::npos) << refused.output;
+}
+
 TEST_F(MatchCommand, BadMeshIsExitCodeTwoWithAReason) {
   const fs::path bad = *dir_ / "bad.off";
   std::ofstream(bad) << "OFF\n3 1 0\n0 0 0\n1 0 0\nnan 1 0\n3 0 1 2\n";

@@ -176,14 +176,6 @@ TEST_F(GroundTruthFiles, UnknownKindAndMissingFile) {
   expect_input_error([&] { load_ground_truth(ds(), pair("off/a.off", "off/b.off", "vts"), 3, 3); }, {"a.vts"});
 }
 
-TEST_F(GroundTruthFiles, ReadVertexMap) {
-  EXPECT_EQ(read_vertex_map(write("map.txt", "3\n0\r\n 12 \n\n")), (std::vector<int>{3, 0, 12}));
-  expect_input_error([&] { read_vertex_map(write("bad.txt", "3\n-1\n2\n")); }, {"bad.txt:2"});
-  expect_input_error([&] { read_vertex_map(write("bad.txt", "3\n1.5\n")); }, {"bad.txt:2"});
-  expect_input_error([&] { read_vertex_map(write("bad.txt", "3\n\n2\n")); }, {"bad.txt:2"});
-  expect_input_error([&] { read_vertex_map(write("bad.txt", "3 4\n")); }, {"bad.txt:1"});
-}
-
 TEST(GroundTruthRealData, ToscaIsometricCat0ToCat1) {
   const std::string dataset = std::string(ISOCORR_SHARED_DATA_DIR) + "/tosca_isometric_5k";
   if (!fs::is_regular_file(dataset + "/pairs.tsv"))

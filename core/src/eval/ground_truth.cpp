@@ -354,30 +354,4 @@ GroundTruth load_ground_truth(const std::string& dataset_dir, const BenchmarkPai
                    "' (expected identity, vts, prefix6890, ref_to_null, sparse_vts or index_map:<file>)");
 }
 
-std::vector<int> read_vertex_map(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError("cannot read map file " + path);
-  std::vector<std::string> lines;
-  for (std::string text; std::getline(in, text);) {
-    if (!text.empty() && text.back() == '\r') text.pop_back();
-    lines.push_back(text);
-  }
-  // Trailing blank lines are harmless; a blank line inside would shift every later vertex.
-  while (!lines.empty() && lines.back().find_first_not_of(" \t") == std::string::npos) lines.pop_back();
-  std::vector<int> map;
-  map.reserve(lines.size());
-  for (size_t k = 0; k < lines.size(); ++k) {
-    const std::string& s = lines[k];
-    const size_t begin = s.find_first_not_of(" \t"), end = s.find_last_not_of(" \t");
-    int value = -1;
-    const char* first = begin == std::string::npos ? s.data() : s.data() + begin;
-    const char* last = begin == std::string::npos ? s.data() : s.data() + end + 1;
-    auto [ptr, ec] = std::from_chars(first, last, value);
-    if (begin == std::string::npos || ec != std::errc() || ptr != last || value < 0)
-      fail(path, static_cast<int>(k) + 1, "expected one non-negative vertex index, found '" + s + "'");
-    map.push_back(value);
-  }
-  return map;
-}
-
 }  // namespace isocorr

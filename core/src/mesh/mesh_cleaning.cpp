@@ -17,6 +17,8 @@
 #include <Eigen/Geometry>
 
 #include "isocorr/util/error.h"
+#include "isocorr/util/kd_tree.h"
+#include "isocorr/util/union_find.h"
 
 namespace isocorr {
 
@@ -32,86 +34,6 @@ std::string cat(const Parts&... parts) {
 std::string count_of(long long n, const char* singular, const char* plural) {
   return cat(n, ' ', n == 1 ? singular : plural);
 }
-
-// Union-find whose root is always the smallest member, so that welded groups are
-// represented by their first input vertex.
-class DisjointSets {
- public:
-  explicit DisjointSets(int size) : parent_(size) { std::iota(parent_.begin(), parent_.end(), 0); }
-  int find(int x) {
-    while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
-    return x;
-  }
-  void unite(int a, int b) {
-    a = find(a), b = find(b);
-    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-  }
-
- private:
-  std::vector<int> parent_;
-};
-
-// Implicit k-d tree over some of the points: every index range is split at its median, along
-// x, y, z in turn with depth. Used for welding (radius queries) and nearest kept vertices.
-class PointTree {
- public:
-  PointTree(const std::vector<Vec3>& points, std::vector<int> ids) : points_(points), ids_(std::move(ids)) {
-    build(0, ids_.size(), 0);
-  }
-
-  int nearest(const Vec3& query) const {
-    int best = -1;
-    double best_squared = std::numeric_limits<double>::infinity();
-    nearest(0, ids_.size(), 0, query, best, best_squared);
-    return best;
-  }
-
-  template <class Visit>
-  void within(const Vec3& query, double radius, const Visit& visit) const {
-    within(0, ids_.size(), 0, query, radius, visit);
-  }
-
- private:
-  void build(size_t lo, size_t hi, int axis) {
-    if (hi - lo < 2) return;
-    const size_t mid = lo + (hi - lo) / 2;
-    std::nth_element(ids_.begin() + lo, ids_.begin() + mid, ids_.begin() + hi,
-                     [&](int a, int b) { return points_[a][axis] < points_[b][axis]; });
-    build(lo, mid, (axis + 1) % 3);
-    build(mid + 1, hi, (axis + 1) % 3);
-  }
-
-  void nearest(size_t lo, size_t hi, int axis, const Vec3& query, int& best, double& best_squared) const {
-    if (lo >= hi) return;
-    const size_t mid = lo + (hi - lo) / 2;
-    const Vec3& split = points_[ids_[mid]];
-    const double squared = (split - query).squaredNorm();
-    if (squared < best_squared) best_squared = squared, best = ids_[mid];
-    const double offset = query[axis] - split[axis];
-    const int next = (axis + 1) % 3;
-    // Near side first; the far side only if the splitting plane is closer than the best.
-    if (offset < 0) nearest(lo, mid, next, query, best, best_squared);
-    else nearest(mid + 1, hi, next, query, best, best_squared);
-    if (offset * offset < best_squared) {
-      if (offset < 0) nearest(mid + 1, hi, next, query, best, best_squared);
-      else nearest(lo, mid, next, query, best, best_squared);
-    }
-  }
-
-  template <class Visit>
-  void within(size_t lo, size_t hi, int axis, const Vec3& query, double radius, const Visit& visit) const {
-    if (lo >= hi) return;
-    const size_t mid = lo + (hi - lo) / 2;
-    const Vec3& split = points_[ids_[mid]];
-    if ((split - query).squaredNorm() <= radius * radius) visit(ids_[mid]);
-    const double offset = query[axis] - split[axis];
-    if (offset <= radius) within(lo, mid, (axis + 1) % 3, query, radius, visit);
-    if (offset >= -radius) within(mid + 1, hi, (axis + 1) % 3, query, radius, visit);
-  }
-
-  const std::vector<Vec3>& points_;
-  std::vector<int> ids_;
-};
 
 double bounding_diagonal(const std::vector<Vec3>& points) {
   if (points.empty()) return 0.0;
@@ -200,8 +122,8 @@ std::vector<int> open_vertices(const TriangleMesh& mesh) {
 // candidates; every other vertex represents itself.
 std::vector<int> weld_vertices(const std::vector<Vec3>& points, const std::vector<int>& candidates, double tolerance) {
   const int count = static_cast<int>(points.size());
-  DisjointSets groups(count);
-  const PointTree tree(points, candidates);
+  UnionFind groups(count);
+  const KdTree tree(points, candidates);
   for (int v : candidates) tree.within(points[v], tolerance, [&](int other) { groups.unite(v, other); });
   std::vector<int> rep(count);
   for (int v = 0; v < count; ++v) rep[v] = groups.find(v);
@@ -354,7 +276,7 @@ struct ComponentChoice {
 
 ComponentChoice keep_largest_component(std::vector<Face>& faces, const std::vector<Vec3>& points, int num_vertices,
                                        bool allowed) {
-  DisjointSets components(num_vertices);
+  UnionFind components(num_vertices);
   for (const Face& f : faces) components.unite(f[0], f[1]), components.unite(f[0], f[2]);
   std::vector<double> area(num_vertices, 0.0);  // indexed by component root
   double total = 0.0;
@@ -510,7 +432,7 @@ CleanMesh clean_mesh(const TriangleMesh& input, const CleaningOptions& options) 
   result.mesh.faces.reserve(faces.size());
   for (const Face& f : faces) result.mesh.faces.push_back({clean_index[f[0]], clean_index[f[1]], clean_index[f[2]]});
 
-  std::optional<PointTree> kept_tree;  // built only when some vertex was dropped
+  std::optional<KdTree> kept_tree;  // built only when some vertex was dropped
   result.input_to_clean.resize(num_input);
   long long unreferenced = 0, outside = 0;
   for (int v = 0; v < num_input; ++v) {

@@ -1,12 +1,18 @@
 #include "isocorr/output/map_files.h"
 
+#include <charconv>
 #include <cstdint>
 #include <fstream>
+#include <sstream>
+#include <string_view>
 
 #include "isocorr/util/error.h"
 
 namespace isocorr {
 namespace {
+
+constexpr std::string_view kBinaryMagic("ICMAP1\0\0", 8);
+constexpr size_t kBinaryHeaderBytes = kBinaryMagic.size() + 4;  // magic, uint32 count
 
 std::ofstream open_for_writing(const std::string& path, std::ios::openmode mode = {}) {
   std::ofstream out(path, std::ios::out | std::ios::trunc | mode);
@@ -16,6 +22,57 @@ std::ofstream open_for_writing(const std::string& path, std::ios::openmode mode 
 
 bool ends_with(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+[[noreturn]] void fail(const std::string& path, const std::string& what) { throw InputError(path + ": " + what); }
+
+uint32_t load_le32(std::string_view bytes, size_t at) {
+  uint32_t value = 0;
+  for (size_t i = 4; i-- > 0;) value = value << 8 | static_cast<unsigned char>(bytes[at + i]);
+  return value;
+}
+
+std::vector<int> parse_binary_map(std::string_view bytes, const std::string& path) {
+  if (bytes.size() < kBinaryHeaderBytes)
+    fail(path, "truncated ICMAP1 map: " + std::to_string(bytes.size()) + " bytes, fewer than its " +
+                   std::to_string(kBinaryHeaderBytes) + "-byte header");
+  const uint32_t count = load_le32(bytes, kBinaryMagic.size());
+  const uint64_t expected = kBinaryHeaderBytes + 4 * static_cast<uint64_t>(count);
+  if (bytes.size() != expected)
+    fail(path, std::string(bytes.size() < expected ? "truncated ICMAP1 map" : "ICMAP1 count mismatch") +
+                   ": the header declares " + std::to_string(count) + " indices (" + std::to_string(expected) +
+                   " bytes) but the file has " + std::to_string(bytes.size()) + " bytes");
+  std::vector<int> map(count);
+  for (uint32_t k = 0; k < count; ++k) {
+    map[k] = static_cast<int32_t>(load_le32(bytes, kBinaryHeaderBytes + 4 * static_cast<size_t>(k)));
+    if (map[k] < 0) fail(path, "vertex " + std::to_string(k) + " maps to the negative index " + std::to_string(map[k]));
+  }
+  return map;
+}
+
+std::vector<int> parse_text_map(const std::string& bytes, const std::string& path) {
+  std::istringstream in(bytes);
+  std::vector<std::string> lines;
+  for (std::string text; std::getline(in, text);) {
+    if (!text.empty() && text.back() == '\r') text.pop_back();
+    lines.push_back(text);
+  }
+  // Trailing blank lines are harmless; a blank line inside would shift every later vertex.
+  while (!lines.empty() && lines.back().find_first_not_of(" \t") == std::string::npos) lines.pop_back();
+  std::vector<int> map;
+  map.reserve(lines.size());
+  for (size_t k = 0; k < lines.size(); ++k) {
+    const std::string& s = lines[k];
+    const size_t begin = s.find_first_not_of(" \t"), end = s.find_last_not_of(" \t");
+    int value = -1;
+    const char* first = begin == std::string::npos ? s.data() : s.data() + begin;
+    const char* last = begin == std::string::npos ? s.data() : s.data() + end + 1;
+    auto [ptr, ec] = std::from_chars(first, last, value);
+    if (begin == std::string::npos || ec != std::errc() || ptr != last || value < 0)
+      fail(path + ":" + std::to_string(k + 1), "expected one non-negative vertex index, found '" + s + "'");
+    map.push_back(value);
+  }
+  return map;
 }
 
 }  // namespace
@@ -31,8 +88,7 @@ void write_map_text(const std::string& path, const std::vector<int>& map) {
 
 void write_map_binary(const std::string& path, const std::vector<int>& map) {
   auto out = open_for_writing(path, std::ios::binary);
-  const char magic[8] = {'I', 'C', 'M', 'A', 'P', '1', 0, 0};
-  out.write(magic, sizeof magic);
+  out.write(kBinaryMagic.data(), kBinaryMagic.size());
   auto put32 = [&](uint32_t value) {
     const unsigned char bytes[4] = {static_cast<unsigned char>(value), static_cast<unsigned char>(value >> 8),
                                     static_cast<unsigned char>(value >> 16), static_cast<unsigned char>(value >> 24)};
@@ -46,6 +102,22 @@ void write_map_binary(const std::string& path, const std::vector<int>& map) {
 void write_map(const std::string& path, const std::vector<int>& map) {
   if (ends_with(path, ".bin")) write_map_binary(path, map);
   else write_map_text(path, map);
+}
+
+std::vector<int> read_map(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError("cannot read map file " + path);
+  std::ostringstream contents;
+  contents << in.rdbuf();
+  if (in.bad()) throw InputError("cannot read map file " + path + ": read error");
+  const std::string bytes = contents.str();
+  if (bytes.starts_with(kBinaryMagic)) return parse_binary_map(bytes, path);
+  // No text map starts with a letter: this is a binary map cut inside its magic, or one of
+  // a version this reader does not know.
+  if (bytes.starts_with("ICMAP"))
+    fail(path, "starts like an ICMAP binary map but without the 8-byte magic \"ICMAP1\\0\\0\" (truncated, or "
+               "another version)");
+  return parse_text_map(bytes, path);
 }
 
 }  // namespace isocorr

@@ -35,7 +35,4 @@ std::vector<BenchmarkPair> read_pairs_tsv(const std::string& dataset_dir);
 GroundTruth load_ground_truth(const std::string& dataset_dir, const BenchmarkPair& pair,
                               int source_vertices, int target_vertices);
 
-// Reads a map file as written by `isocorr match`: one 0-based target index per line.
-std::vector<int> read_vertex_map(const std::string& path);
-
 }  // namespace isocorr

@@ -1,4 +1,4 @@
-// Writing dense maps in formats other tools read.
+// Dense map files: writing them in formats other tools read, and reading them back.
 #pragma once
 
 #include <string>
@@ -12,5 +12,11 @@ void write_map_text(const std::string& path, const std::vector<int>& map);
 void write_map_binary(const std::string& path, const std::vector<int>& map);
 // Picks the format by extension: ".bin" is binary, anything else text.
 void write_map(const std::string& path, const std::vector<int>& map);
+
+// Reads a map in either format: binary when the file starts with the ICMAP1 magic, whatever
+// its name, text otherwise (blank lines at the end are ignored). Throws InputError naming
+// the file and the problem: a truncated binary map, a count that disagrees with the data,
+// a text line that is not one integer, a negative index.
+std::vector<int> read_map(const std::string& path);
 
 }  // namespace isocorr

@@ -1,10 +1,10 @@
-#include "storage/sha256.h"
+#include "isocorr/util/sha256.h"
 
 #include <openssl/evp.h>
 
 #include <stdexcept>
 
-namespace isocorr::server {
+namespace isocorr {
 
 struct Sha256::State {
   EVP_MD_CTX* context = nullptr;
@@ -42,4 +42,4 @@ bool is_sha256_hex(std::string_view text) {
   return true;
 }
 
-}  // namespace isocorr::server
+}  // namespace isocorr

@@ -1,11 +1,12 @@
-// Incremental SHA-256 (OpenSSL), the name of every stored mesh.
+// Incremental SHA-256 (OpenSSL): the name of every stored mesh, computed by the server on
+// upload and by the client before it uploads.
 #pragma once
 
 #include <memory>
 #include <string>
 #include <string_view>
 
-namespace isocorr::server {
+namespace isocorr {
 
 class Sha256 {
  public:
@@ -26,4 +27,4 @@ class Sha256 {
 // True for 64 lower-case hex characters.
 bool is_sha256_hex(std::string_view text);
 
-}  // namespace isocorr::server
+}  // namespace isocorr

@@ -1,0 +1,17 @@
+// The per-format readers behind parse_mesh (mesh_io.cpp picks one). Mesh files come from
+// users, so every malformed input becomes an InputError naming the problem, and header
+// counts are checked against the bytes that follow before anything is allocated.
+#pragma once
+
+#include <string_view>
+
+#include "isocorr/mesh/mesh_io.h"
+
+namespace isocorr::mesh_formats {
+
+// Each takes the file's bytes (any UTF-8 byte-order mark already removed).
+LoadedMesh parse_off(std::string_view text);
+LoadedMesh parse_obj(std::string_view text);
+LoadedMesh parse_ply(std::string_view bytes);
+
+}  // namespace isocorr::mesh_formats

@@ -1,0 +1,50 @@
+// Wavefront OBJ: vertex positions and faces; everything else in the file is skipped.
+#include <vector>
+
+#include "mesh_builder.h"
+#include "mesh_formats.h"
+#include "text_scanning.h"
+
+namespace isocorr::mesh_formats {
+
+LoadedMesh parse_obj(string_view text) {
+  constexpr const char* kFormat = "OBJ";
+  MeshBuilder builder(kFormat, 1);
+  Lines lines(text);
+  string_view line, token;
+  std::vector<long long> corners;
+  while (lines.next(line)) {
+    Tokens values(line);
+    values.next(token);
+    const long long line_number = lines.number();
+    if (token == "v") {
+      double xyz[3];
+      for (double& coordinate : xyz)
+        if (!values.next(token) || !parse_number(token, coordinate))
+          fail(kFormat, cat("line ", line_number, ": a vertex needs three numeric coordinates"));
+      builder.add_vertex(xyz[0], xyz[1], xyz[2], {"the vertex on line", line_number});
+    } else if (token == "f") {
+      corners.clear();
+      while (values.next(token)) {
+        // "a", "a/b", "a//c", "a/b/c": only the position index matters.
+        long long index = 0;
+        if (!parse_integer(token.substr(0, token.find('/')), index) || index == 0)
+          fail(kFormat, cat("line ", line_number, ": ", shown(token), " is not a valid vertex reference"));
+        if (index < 0) {  // relative to the vertices defined so far
+          index += builder.vertex_count();
+          if (index < 0)
+            fail(kFormat,
+                 cat("line ", line_number, ": relative index ", shown(token), " reaches before the first vertex"));
+        } else {
+          index -= 1;
+        }
+        corners.push_back(index);
+      }
+      builder.add_polygon(corners, {"the face on line", line_number});
+    }
+    // vt, vn, g, o, s, usemtl, mtllib, l, ... carry nothing the engine uses.
+  }
+  return builder.finish("obj");
+}
+
+}  // namespace isocorr::mesh_formats
