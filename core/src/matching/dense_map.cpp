@@ -113,7 +113,7 @@ std::vector<SamplePair> drop_least_consistent(const PreprocessedShape& source, c
   std::vector<double> distortion(count, 0.0);
   for (size_t p = 0; p < count; ++p) {
     const int sv = source.sample_vertex(pairs[p].source_sample);
-    const int tv = target.sample_vertex(pairs[p].target_sample);
+    const int tv = image_vertex(target, pairs[p]);
     for (size_t q = 0; q < count; ++q)
       if (q != p)
         distortion[p] += std::abs(source.field(pairs[q].source_sample, sv) - target.field(pairs[q].target_sample, tv));
@@ -142,19 +142,22 @@ DenseMap compute_dense_map(const PreprocessedShape& source, const PreprocessedSh
   const int threads = resolve_thread_count(options.threads);
   const int source_n = source.mesh().num_vertices(), target_n = target.mesh().num_vertices();
   std::vector<const float*> source_fields(e), target_fields(e);
-  std::vector<int> source_vertex(e), target_vertex(e);
+  // target_vertex: an anchor's image; field_vertex: where its target field is centred
+  // (its sample until the field is recomputed at the image).
+  std::vector<int> source_vertex(e), target_vertex(e), field_vertex(e);
   for (int a = 0; a < e; ++a) {
     source_fields[a] = source.field_row(pairs[a].source_sample);
     target_fields[a] = target.field_row(pairs[a].target_sample);
     source_vertex[a] = source.sample_vertex(pairs[a].source_sample);
-    target_vertex[a] = target.sample_vertex(pairs[a].target_sample);
+    target_vertex[a] = image_vertex(target, pairs[a]);  // tracking's vertex-accurate image
+    field_vertex[a] = target.sample_vertex(pairs[a].target_sample);
   }
   const Descriptors source_desc = build_descriptors(source_n, source_fields);
 
-  // Anchor images are target samples, up to half a sample spacing from the true image.
-  // Each round moves every anchor's image to the vertex that best agrees with the other
-  // anchors, then recomputes the moved anchors' fields, so the dense level starts from
-  // vertex-accurate anchors.
+  // Anchor images start where tracking left them (vertex-accurate where it refined them),
+  // but their fields are their samples'. Each round moves every anchor's image to the
+  // vertex that best agrees with the other anchors and recomputes the field wherever it is
+  // not centred on the image, so the dense level starts from vertex-accurate anchors.
   std::vector<std::vector<float>> refined_fields(e);
   const float inverse_diameter = static_cast<float>(1.0 / target.diameter());
   const MeshTopology& target_topology = target.geodesics().topology();
@@ -173,7 +176,7 @@ DenseMap compute_dense_map(const PreprocessedShape& source, const PreprocessedSh
     });
     std::vector<FastMarching::Workspace> workspaces(threads);
     parallel_for(e, threads, [&](int a, int worker) {
-      if (moved_to[a] == target_vertex[a]) return;
+      if (moved_to[a] == field_vertex[a]) return;
       auto& ws = workspaces[worker];
       target.geodesics().compute({moved_to[a]}, ws);
       refined_fields[a].resize(target_n);
@@ -181,12 +184,16 @@ DenseMap compute_dense_map(const PreprocessedShape& source, const PreprocessedSh
         refined_fields[a][v] = ws.distance[v] == kUnreached ? 1.f : ws.distance[v] * inverse_diameter;
     });
     int moved = 0;
-    for (int a = 0; a < e; ++a)
+    for (int a = 0; a < e; ++a) {
+      if (moved_to[a] != field_vertex[a]) {
+        field_vertex[a] = moved_to[a];
+        target_fields[a] = refined_fields[a].data();
+      }
       if (moved_to[a] != target_vertex[a]) {
         target_vertex[a] = moved_to[a];
-        target_fields[a] = refined_fields[a].data();
         ++moved;
       }
+    }
     if (moved == 0) break;
   }
   const Descriptors target_desc = build_descriptors(target_n, target_fields);
@@ -199,7 +206,7 @@ DenseMap compute_dense_map(const PreprocessedShape& source, const PreprocessedSh
   auto seeds_of = [&](const std::vector<SamplePair>& seed_pairs, bool forward) {
     std::vector<std::pair<int, int>> seeds;
     for (const SamplePair& p : seed_pairs) {
-      const int sv = source.sample_vertex(p.source_sample), tv = target.sample_vertex(p.target_sample);
+      const int sv = source.sample_vertex(p.source_sample), tv = image_vertex(target, p);
       seeds.push_back(forward ? std::make_pair(sv, tv) : std::make_pair(tv, sv));
     }
     return seeds;
