@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <type_traits>
 
@@ -144,10 +143,11 @@ std::vector<SettingField> build_schema() {
   };
 }
 
+// The shortest text that parses back to exactly `value` (0.15, not 0.14999999999999999).
 std::string format_number(double value) {
   char text[32];
-  std::snprintf(text, sizeof text, "%.17g", value);
-  return text;
+  const auto result = std::to_chars(text, text + sizeof text, value);
+  return std::string(text, result.ptr);
 }
 
 }  // namespace

@@ -43,8 +43,8 @@ struct SettingField {
   std::function<void(MatchSettings&, double)> set;
 
   std::string flag() const;  // "--level0-radius"
-  // The value as text that parses back to the same value: an int, a double with 17
-  // significant digits, "true"/"false", a choice's name.
+  // The value as text that parses back to the same value: an int, the shortest exact
+  // text of a double, "true"/"false", a choice's name.
   std::string format(const MatchSettings& settings) const;
   // Parses what format() writes (also 1/0/yes/no for bools); throws InputError naming the
   // field on malformed text. Does not check the range (validate does).
