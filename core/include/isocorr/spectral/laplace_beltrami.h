@@ -1,0 +1,58 @@
+// The Laplace-Beltrami operator of a triangle mesh (cotangent stiffness, lumped mass) and
+// its low-frequency eigenbasis: the functional basis ZoomOut refines a pointwise map in.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "isocorr/mesh/triangle_mesh.h"
+
+namespace isocorr {
+
+// Cotangent stiffness matrix, #V by #V, symmetric positive semi-definite: off-diagonal
+// entry (i, j) is -(cot a + cot b) / 2 for the angles a, b opposite edge ij, the diagonal
+// makes every row sum to 0. Boundary edges have one opposite angle only, which is the
+// natural (Neumann) boundary condition. Slivers are made harmless as described in the
+// source: no |cot| exceeds kMaxCotangent, and L stays positive semi-definite.
+inline constexpr double kMaxCotangent = 1000;
+Eigen::SparseMatrix<double> cotangent_laplacian(const TriangleMesh& mesh);
+
+// Lumped (barycentric) mass, #V: a third of the area of the faces around each vertex; sums
+// to the surface area.
+Eigen::VectorXd lumped_mass(const TriangleMesh& mesh);
+
+struct LaplaceBasisOptions {
+  // The shift-invert solver factors L - sigma M with sigma = -relative_shift * trace(L) /
+  // area, a fraction of the typical (high-frequency) eigenvalue: L - sigma M is then
+  // positive definite with a condition number near 1 / relative_shift, whatever the mesh
+  // size or units, while sigma stays far below the first non-zero eigenvalue.
+  double relative_shift = 1e-8;
+  // Restarts of the Lanczos iteration and its relative tolerance on each Ritz value.
+  int max_restarts = 1000;
+  double tolerance = 1e-10;
+  // Lanczos can miss copies of an exactly repeated eigenvalue (symmetric meshes: spheres,
+  // grids); when true, a deflated pass looks for them and swaps them in. Costs one short
+  // Lanczos run (2.3 s on 52K vertices, beside 6 s for k = 100) when nothing was missed.
+  bool complete_multiplets = true;
+};
+
+// The first k eigenpairs of L phi = lambda M phi, ascending.
+struct LaplaceBasis {
+  Eigen::VectorXd eigenvalues;   // k, ascending; the first is 0 up to round-off
+  Eigen::MatrixXd eigenvectors;  // #V by k, M-orthonormal: Phi^T diag(mass) Phi = I
+  Eigen::VectorXd mass;          // #V, the lumped mass M
+};
+
+// Computes the basis by shift-invert Lanczos (Spectra) with a sparse Cholesky of L - sigma M
+// (Eigen's SimplicialLDLT. On 52K vertices it factors in 0.07 s and solves in 3 ms, and the
+// solves are a seventh of the run, the rest being Lanczos' dense work; CHOLMOD's supernodal
+// LLT was slower, 0.13 s and 5.4 ms, its simplicial LDLT solved in 2.1 ms but whole runs
+// stayed within the noise of a shared machine, so it is not worth a dependency).
+// k is capped at #V - 1. Each eigenvector's largest-magnitude entry is positive, so the
+// result does not depend on the solver's start. Throws InputError for k < 1, for a vertex
+// without area (unreferenced, or only in zero-area faces: clean the mesh first) and when
+// the solver does not converge.
+LaplaceBasis compute_laplace_basis(const TriangleMesh& mesh, int k,
+                                   const LaplaceBasisOptions& options = {});
+
+}  // namespace isocorr
