@@ -1,13 +1,15 @@
 // isocorr-bench: runs the pairs.tsv lists of the benchmark datasets and prints, per
 // dataset, flip-free %, D_grd, d_grd-dagger, Kim AUC, D_iso, seconds and peak memory per
-// pair, for both selection rules (orientation, the default, and the paper's least D_iso),
-// then how the time grows with the vertex count.
+// pair, for three variants of the settings given (default: refined and chosen by dense
+// evidence; the C2F map alone, refine = none; the paper's pipeline, refine = none with the
+// least-D_iso rule), then how the time grows with the vertex count.
 //
 // Each pair runs in a forked child so that its peak memory is its own.
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -37,7 +39,7 @@ struct PairOutcome {
   bool ok = false;
   int vertices = 0;
   double seconds = 0, peak_mb = 0;
-  RuleOutcome by_orientation, by_diso;
+  std::array<RuleOutcome, 3> variants;  // as set, C2F only, paper
   std::string error;
 };
 
@@ -64,19 +66,20 @@ PairOutcome run_pair(const std::string& dataset, const BenchmarkPair& pair, Matc
   const auto start = std::chrono::steady_clock::now();
   const LoadedMesh source = load_mesh(pair.source_path);
   const LoadedMesh target = load_mesh(pair.target_path);
-  MeshPairShapes shapes(source.mesh, target.mesh);  // the second rule reuses the preprocessing
-  settings.selection = SelectionRule::kOrientationThenDistortion;
-  const MatchResult by_orientation = run_match(shapes, settings);
+  MeshPairShapes shapes(source.mesh, target.mesh);  // the other variants reuse the preprocessing
+  const MatchResult as_set = run_match(shapes, settings);
   outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  settings.refine = RefineMethod::kNone;
+  const MatchResult c2f = run_match(shapes, settings);
   settings.selection = SelectionRule::kLeastDistortion;
-  const MatchResult by_diso = run_match(shapes, settings);
+  const MatchResult paper = run_match(shapes, settings);
 
   const GroundTruth truth = load_ground_truth(dataset, pair, source.mesh.num_vertices(), target.mesh.num_vertices());
   const MeshTopology topology(target.mesh);
   const FastMarching geodesics(target.mesh, topology);
   const double diameter = estimate_geodesic_diameter(geodesics);
-  outcome.by_orientation = score(by_orientation, target.mesh, geodesics, diameter, truth, points);
-  outcome.by_diso = score(by_diso, target.mesh, geodesics, diameter, truth, points);
+  const MatchResult* results[] = {&as_set, &c2f, &paper};
+  for (int i = 0; i < 3; ++i) outcome.variants[i] = score(*results[i], target.mesh, geodesics, diameter, truth, points);
   outcome.vertices = source.mesh.num_vertices();
   outcome.ok = true;
   return outcome;
@@ -86,9 +89,9 @@ std::string serialise(const PairOutcome& o) {
   std::ostringstream out;
   out.precision(9);
   out << o.ok << ' ' << o.vertices << ' ' << o.seconds;
-  for (const RuleOutcome* r : {&o.by_orientation, &o.by_diso})
-    out << ' ' << r->d_grd << ' ' << r->d_grd_max << ' ' << r->kim_auc << ' ' << r->diso << ' ' << r->mirrored
-        << ' ' << r->flip_free << ' ' << r->tracked << ' ' << r->chosen_rank;
+  for (const RuleOutcome& r : o.variants)
+    out << ' ' << r.d_grd << ' ' << r.d_grd_max << ' ' << r.kim_auc << ' ' << r.diso << ' ' << r.mirrored
+        << ' ' << r.flip_free << ' ' << r.tracked << ' ' << r.chosen_rank;
   out << ' ' << o.error;
   return out.str();
 }
@@ -97,9 +100,9 @@ PairOutcome deserialise(const std::string& line) {
   std::istringstream in(line);
   PairOutcome o;
   in >> o.ok >> o.vertices >> o.seconds;
-  for (RuleOutcome* r : {&o.by_orientation, &o.by_diso})
-    in >> r->d_grd >> r->d_grd_max >> r->kim_auc >> r->diso >> r->mirrored >> r->flip_free >> r->tracked >>
-        r->chosen_rank;
+  for (RuleOutcome& r : o.variants)
+    in >> r.d_grd >> r.d_grd_max >> r.kim_auc >> r.diso >> r.mirrored >> r.flip_free >> r.tracked >>
+        r.chosen_rank;
   std::getline(in >> std::ws, o.error);
   return o;
 }
@@ -107,7 +110,7 @@ PairOutcome deserialise(const std::string& line) {
 PairOutcome run_in_child(const std::string& dataset, const BenchmarkPair& pair, const MatchSettings& settings,
                          int points) {
   int fds[2];
-  if (pipe(fds) != 0) return {false, 0, 0, 0, {}, {}, "pipe failed"};
+  if (pipe(fds) != 0) return {false, 0, 0, 0, {}, "pipe failed"};
   const pid_t pid = fork();
   if (pid == 0) {
     close(fds[0]);
@@ -129,17 +132,17 @@ PairOutcome run_in_child(const std::string& dataset, const BenchmarkPair& pair, 
   int status = 0;
   struct rusage usage {};
   wait4(pid, &status, 0, &usage);
-  PairOutcome outcome = line.empty() ? PairOutcome{false, 0, 0, 0, {}, {}, "child died"} : deserialise(line);
+  PairOutcome outcome = line.empty() ? PairOutcome{false, 0, 0, 0, {}, "child died"} : deserialise(line);
   outcome.peak_mb = usage.ru_maxrss / 1024.0;
   return outcome;
 }
 
-void print_rule_row(const char* rule, const std::vector<PairOutcome>& outcomes, bool orientation) {
+void print_rule_row(const char* rule, const std::vector<PairOutcome>& outcomes, int variant) {
   int ok = 0, flip_free = 0;
   double d_grd = 0, d_max = 0, auc = 0, diso = 0;
   for (const auto& o : outcomes) {
     if (!o.ok) continue;
-    const RuleOutcome& r = orientation ? o.by_orientation : o.by_diso;
+    const RuleOutcome& r = o.variants[variant];
     ++ok;
     auc += r.kim_auc;
     diso += r.diso;
@@ -186,12 +189,13 @@ int main(int argc, char** argv) {
       const PairOutcome o = run_in_child(dir, pair, settings, points);
       const auto stem = [](const std::string& p) { return std::filesystem::path(p).stem().string(); };
       if (o.ok) {
-        std::printf("%-14s %-12s -> %-12s V=%6d %7.2f s %6.0f MB | orient: %s D_grd %.4f chose #%d of %d | "
-                    "least-diso: %s D_grd %.4f chose #%d\n",
-                    name.c_str(), stem(pair.source_path).c_str(), stem(pair.target_path).c_str(), o.vertices,
-                    o.seconds, o.peak_mb, o.by_orientation.flip_free ? "ok  " : "FLIP", o.by_orientation.d_grd,
-                    o.by_orientation.chosen_rank + 1, o.by_orientation.tracked, o.by_diso.flip_free ? "ok  " : "FLIP",
-                    o.by_diso.d_grd, o.by_diso.chosen_rank + 1);
+        std::printf("%-14s %-12s -> %-12s V=%6d %7.2f s %6.0f MB", name.c_str(), stem(pair.source_path).c_str(),
+                    stem(pair.target_path).c_str(), o.vertices, o.seconds, o.peak_mb);
+        const char* labels[] = {"as set", "C2F", "paper"};
+        for (int i = 0; i < 3; ++i)
+          std::printf(" | %s: %s D_grd %.4f #%d", labels[i], o.variants[i].flip_free ? "ok  " : "FLIP",
+                      o.variants[i].d_grd, o.variants[i].chosen_rank + 1);
+        std::printf("\n");
         scaling.push_back({o.vertices, o.seconds});
       } else {
         std::printf("%-14s %-12s -> %-12s FAILED: %s\n", name.c_str(), stem(pair.source_path).c_str(),
@@ -205,8 +209,9 @@ int main(int argc, char** argv) {
     for (const auto& o : outcomes)
       if (o.ok) ++ok, seconds += o.seconds, peak = std::max(peak, o.peak_mb);
     std::printf("== %s: %d pairs, %.2f s per pair, peak %.0f MB\n", name.c_str(), ok, ok ? seconds / ok : 0.0, peak);
-    print_rule_row("orientation", outcomes, true);
-    print_rule_row("least-diso", outcomes, false);
+    print_rule_row("as set", outcomes, 0);
+    print_rule_row("C2F only", outcomes, 1);
+    print_rule_row("paper", outcomes, 2);
   }
   // Growth with size: seconds / (V log V) should stay flat if cost grows like V log V.
   std::map<int, std::pair<double, int>> by_size;

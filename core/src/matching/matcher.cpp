@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "isocorr/matching/orientation.h"
+#include "isocorr/refinement/refinement.h"
 #include "isocorr/util/parallel.h"
 
 namespace isocorr {
@@ -21,20 +22,25 @@ Eigen::MatrixXd sample_distances(const PreprocessedShape& shape, int count) {
 // handedness of part of the surface, so only maps whose orientation agreement is within
 // `orientation_margin` of the best one compete. Among them D_iso decides, lowered by
 // `orientation_weight` per unit of agreement: a human's front/back-turned map keeps
-// orientation too and comes within a few per cent of the true map's D_iso.
-int choose_tracked(const std::vector<TrackedMap>& tracked, const MatchSettings& settings) {
+// orientation too and comes within a few per cent of the true map's D_iso. Returns all
+// tracked maps, best first: the competing ones by score, then the rest by score.
+std::vector<int> rank_tracked(const std::vector<TrackedMap>& tracked, const MatchSettings& settings) {
   double best_orientation = 0;
   for (const auto& t : tracked) best_orientation = std::max(best_orientation, t.orientation);
   const bool use_orientation = settings.selection == SelectionRule::kOrientationThenDistortion &&
                                best_orientation >= settings.orientation_threshold;
   const double weight = use_orientation ? settings.orientation_weight : 0.0;
   auto score = [&](const TrackedMap& t) { return t.diso - weight * t.orientation; };
-  int chosen = -1;
-  for (int i = 0; i < static_cast<int>(tracked.size()); ++i) {
-    if (use_orientation && tracked[i].orientation < best_orientation - settings.orientation_margin) continue;
-    if (chosen < 0 || score(tracked[i]) < score(tracked[chosen])) chosen = i;
-  }
-  return chosen;
+  auto competes = [&](const TrackedMap& t) {
+    return !use_orientation || t.orientation >= best_orientation - settings.orientation_margin;
+  };
+  std::vector<int> order(tracked.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    if (competes(tracked[a]) != competes(tracked[b])) return competes(tracked[a]);
+    return score(tracked[a]) < score(tracked[b]);
+  });
+  return order;
 }
 
 }  // namespace
@@ -78,16 +84,28 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
     const int finished = ++done;
     control.report({"tracking", levels, total_levels, 0.1 + 0.6 * finished / tracked_count});
   });
-  result.chosen = choose_tracked(result.tracked, settings);
+  const std::vector<int> ranked = rank_tracked(result.tracked, settings);
+  result.chosen = ranked.front();
   clock.finish("tracking");
 
-  // Dense level from the chosen map only.
-  control.report({"dense", total_levels, total_levels, 0.7});
-  DenseOptions dense_options = settings.dense;
-  dense_options.threads = threads;
-  const DenseMap dense =
-      compute_dense_map(source, target, result.tracked[result.chosen].pairs, dense_options, control);
-  clock.finish("dense");
+  DenseMap dense;
+  if (settings.refine == RefineMethod::kNone) {
+    // The C2F dense level from the chosen map only.
+    control.report({"dense", total_levels, total_levels, 0.7});
+    DenseOptions dense_options = settings.dense;
+    dense_options.threads = threads;
+    dense = compute_dense_map(source, target, result.tracked[result.chosen].pairs, dense_options, control);
+    clock.finish("dense");
+  } else {
+    control.report({"refine", total_levels, total_levels, 0.7});
+    RefinedMatch refined = refine_and_choose(source, target, result.tracked, ranked, settings, control);
+    dense = std::move(refined.dense);
+    result.refined = std::move(refined.candidates);
+    result.refined_chosen = refined.chosen;
+    result.refined_why = std::move(refined.why);
+    result.chosen = result.refined[result.refined_chosen].tracked_index;
+    clock.finish("refine");
+  }
 
   // Back to the files' numbering.
   const CleanMesh& sc = source.clean();
@@ -107,10 +125,15 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
     out.reverse[i] = sc.clean_to_input[dense.reverse[c]];
     out.reverse_confidence[i] = dense.reverse_diso[c];
   }
-  double sum = 0, worst = 0;
-  for (float d : dense.forward_diso) sum += d, worst = std::max(worst, static_cast<double>(d));
-  result.diso = sum / std::max<size_t>(1, dense.forward_diso.size());
-  result.diso_max = worst;
+  if (result.refined.empty()) {
+    double sum = 0, worst = 0;
+    for (float d : dense.forward_diso) sum += d, worst = std::max(worst, static_cast<double>(d));
+    result.diso = sum / std::max<size_t>(1, dense.forward_diso.size());
+    result.diso_max = worst;
+  } else {  // refined: the winner's distortion between coarse samples, measured exactly
+    result.diso = result.refined[result.refined_chosen].evidence.distortion;
+    result.diso_max = result.refined[result.refined_chosen].evidence.distortion_max;
+  }
   result.dense_orientation = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
                                                          target.normals(), dense.forward);
   for (const auto& note : sc.repairs) result.notes.push_back("source: " + note);

@@ -30,6 +30,19 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
                        {"pairs", t.pairs.size()}, {"diso", t.diso}, {"orientation", t.orientation}});
   report["tracked"] = tracked;
   report["chosen"] = result.chosen;
+  if (!result.refined.empty()) {
+    json refined = json::array();
+    for (const auto& c : result.refined)
+      refined.push_back({{"tracked", c.tracked_index},
+                         {"level0_rank", result.tracked[c.tracked_index].level0_rank},
+                         {"orientation", c.evidence.orientation},
+                         {"distortion", c.evidence.distortion},
+                         {"distortion_max", c.evidence.distortion_max},
+                         {"round_trip", c.evidence.round_trip},
+                         {"score", c.score},
+                         {"mirrored", c.mirrored}});
+    report["refined"] = {{"candidates", refined}, {"chosen", result.refined_chosen}, {"why", result.refined_why}};
+  }
   report["final"] = {{"diso", result.diso}, {"diso_max", result.diso_max},
                      {"orientation", result.dense_orientation},
                      {"source_vertices", result.output.forward.size()},

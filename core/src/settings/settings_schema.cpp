@@ -114,6 +114,20 @@ std::vector<SettingField> build_schema() {
       row("dense_locality", kMatch, closed(0, 10),
           "dense level: anchors weigh 1/(distance + this); 0 = plain d_iso",
           [](auto& s) -> auto& { return s.dense.locality; }),
+      // Refinement and the choice by dense evidence.
+      row("refine", kMatch, {}, "after tracking: zoomout (spectral refinement, choice by dense evidence) or none (the C2F dense level)",
+          [](auto& s) -> auto& { return s.refine; }, {"zoomout", "none"}),
+      row("refine_candidates", kMatch, closed(1, 32), "distinct tracked maps refined and compared by dense evidence",
+          [](auto& s) -> auto& { return s.refine_candidates; }),
+      row("zoomout_k_start", kMatch, closed(1, 1000), "spectral refinement: first basis size",
+          [](auto& s) -> auto& { return s.zoomout.k_start; }),
+      row("zoomout_k_end", kMatch, closed(1, 1000), "spectral refinement: last basis size (at most spectral_basis)",
+          [](auto& s) -> auto& { return s.zoomout.k_end; }),
+      row("zoomout_k_step", kMatch, closed(1, 1000), "spectral refinement: basis growth per iteration",
+          [](auto& s) -> auto& { return s.zoomout.k_step; }),
+      row("dense_choice_sources", kMatch, closed(1, 64),
+          "geodesic fields per refined candidate for its dense distortion",
+          [](auto& s) -> auto& { return s.dense_choice_sources; }),
       // Per-mesh preprocessing.
       row("level0_radius", kPreprocess, open(0, 1), "level-0 sampling radius, fraction of the geodesic diameter",
           [](auto& s) -> auto& { return s.preprocess.level0_radius; }),
@@ -123,6 +137,10 @@ std::vector<SettingField> build_schema() {
           [](auto& s) -> auto& { return s.preprocess.decision_level; }),
       row("max_level0_samples", kPreprocess, closed(3, 12), "level-0 samples kept per mesh (M' is at most this)",
           [](auto& s) -> auto& { return s.preprocess.max_level0_samples; }),
+      row("spectral_basis", kPreprocess, closed(0, 1000), "Laplace-Beltrami eigenpairs per mesh (0 = none: no refinement)",
+          [](auto& s) -> auto& { return s.preprocess.spectral_basis; }),
+      row("spectral_samples", kPreprocess, closed(100, 100000), "evenly spread vertices per mesh the refinement iterates on",
+          [](auto& s) -> auto& { return s.preprocess.spectral_samples; }),
       row("agd_sources", kPreprocess, closed(1, 10000), "farthest-point fields averaged for saliency",
           [](auto& s) -> auto& { return s.preprocess.saliency.agd_sources; }),
       row("extremity_radius", kPreprocess, open_closed(0, 1),
@@ -263,6 +281,12 @@ void MatchSettings::validate() const {
   if (max_tracked < min_tracked)
     throw InputError("setting max_tracked = " + std::to_string(max_tracked) + " is below min_tracked = " +
                      std::to_string(min_tracked));
+  if (refine != RefineMethod::kNone && zoomout.k_end > preprocess.spectral_basis)
+    throw InputError("setting zoomout_k_end = " + std::to_string(zoomout.k_end) + " exceeds spectral_basis = " +
+                     std::to_string(preprocess.spectral_basis) + ", the eigenpairs kept per mesh (or use refine = none)");
+  if (zoomout.k_start > zoomout.k_end)
+    throw InputError("setting zoomout_k_start = " + std::to_string(zoomout.k_start) + " exceeds zoomout_k_end = " +
+                     std::to_string(zoomout.k_end));
   if (std::max(level0_samples, 7) + level0_extra_targets > preprocess.max_level0_samples)
     throw InputError("settings level0_samples + level0_extra_targets (M') exceed max_level0_samples = " +
                      std::to_string(preprocess.max_level0_samples) + ", the level-0 samples kept per mesh");

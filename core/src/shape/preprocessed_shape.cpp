@@ -4,7 +4,9 @@
 #include <cmath>
 
 #include "isocorr/sampling/salient_sampling.h"
+#include "isocorr/refinement/zoomout.h"
 #include "isocorr/settings/settings_schema.h"
+#include "isocorr/spectral/laplace_beltrami.h"
 #include "isocorr/util/parallel.h"
 
 namespace isocorr {
@@ -71,6 +73,15 @@ std::shared_ptr<const PreprocessedShape> PreprocessedShape::build(const Triangle
   shape->diameter_ = std::max<double>(diameter, *std::max_element(farthest.begin(), farthest.end()));
   const float inverse_diameter = static_cast<float>(1.0 / shape->diameter_);
   for (float& value : shape->fields_) value = value == kUnreached ? 1.f : value * inverse_diameter;
+  control.check_cancelled();
+
+  if (options.spectral_basis > 0) {
+    // Mass-orthonormal eigenvectors scaled by sqrt(area): the same shape at another scale
+    // gets the same embedding, so spectral distances compare across meshes.
+    const LaplaceBasis basis = compute_laplace_basis(mesh, options.spectral_basis);
+    shape->spectral_basis_ = (basis.eigenvectors * std::sqrt(shape->area_)).cast<float>();
+    shape->spectral_samples_ = spread_vertices(mesh, options.spectral_samples);
+  }
   return shape;
 }
 
@@ -82,7 +93,8 @@ int PreprocessedShape::num_level0_samples() const {
 
 size_t PreprocessedShape::memory_bytes() const {
   const size_t n = mesh().num_vertices();
-  return fields_.size() * sizeof(float) + n * (sizeof(Vec3) * 2 + sizeof(float) + 3 * sizeof(int)) +
+  return fields_.size() * sizeof(float) + spectral_basis_.size() * sizeof(float) +
+         spectral_samples_.size() * sizeof(int) + n * (sizeof(Vec3) * 2 + sizeof(float) + 3 * sizeof(int)) +
          mesh().faces.size() * sizeof(Face) * 3;
 }
 

@@ -9,6 +9,7 @@
 #include "isocorr/matching/flip_tracking.h"
 #include "isocorr/matching/level0_search.h"
 #include "isocorr/output/match_output.h"
+#include "isocorr/refinement/dense_choice.h"
 #include "isocorr/settings/match_settings.h"
 #include "isocorr/shape/preprocessed_shape.h"
 #include "isocorr/util/stage_clock.h"
@@ -30,8 +31,12 @@ struct MatchResult {
   std::vector<Level0Map> level0;          // sorted by D_iso
   int tracked_by_jump_rule = 0;           // N before the min/max bounds
   std::vector<TrackedMap> tracked;
-  int chosen = 0;                         // index into `tracked`
-  double diso = 0;                        // D_iso of the dense forward map (over the anchors)
+  int chosen = 0;                         // index into `tracked`: the map the result comes from
+  std::vector<DenseCandidate> refined;    // refine = zoomout: the refined candidates,
+  int refined_chosen = 0;                 // the winner among them,
+  std::string refined_why;                // and why it won
+  double diso = 0;                        // C2F: D_iso of the dense forward map over the anchors;
+                                          // refined: distortion between coarse samples
   double diso_max = 0;                    // d_iso-dagger
   double dense_orientation = 0;           // fraction of source faces keeping handedness
   std::vector<StageTiming> timings;

@@ -23,7 +23,9 @@ struct MatchOutput {
   // In the input files' vertex numbering.
   std::vector<int> forward;               // source vertex -> target vertex
   std::vector<int> reverse;               // target vertex -> source vertex
-  std::vector<float> forward_confidence;  // d_iso of each forward pair (lower is better)
+  // Per pair, lower is better: the spectral residual of a refined map, d_iso against the
+  // anchors for the C2F map (refine = none).
+  std::vector<float> forward_confidence;
   std::vector<float> reverse_confidence;
   std::string report_json;                // the same report as `isocorr match --report`
 };

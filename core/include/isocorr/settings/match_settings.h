@@ -5,9 +5,15 @@
 
 #include "isocorr/matching/dense_map.h"
 #include "isocorr/matching/flip_tracking.h"
+#include "isocorr/refinement/zoomout.h"
 #include "isocorr/shape/preprocessed_shape.h"
 
 namespace isocorr {
+
+enum class RefineMethod {
+  kZoomOut,  // default: spectral refinement of the best tracked candidates, chosen by dense evidence
+  kNone,     // the C2F dense level alone (anchor descriptors + descent): the paper's pipeline
+};
 
 enum class SelectionRule {
   kOrientationThenDistortion,  // default: keep the tracked maps that best keep orientation, then least D_iso
@@ -37,7 +43,13 @@ struct MatchSettings {
   double orientation_margin = 0.1;     // maps this close to the best orientation compete on D_iso
   double orientation_weight = 0.025;   // ... on D_iso - weight * orientation agreement
   TrackingOptions tracking;
-  DenseOptions dense;
+  DenseOptions dense;               // the C2F dense level (refine = none)
+  RefineMethod refine = RefineMethod::kZoomOut;
+  // Distinct tracked maps refined and compared by dense evidence (refinement.h). Three
+  // covers the true map and its two sparse look-alikes (the mirror and the turned body).
+  int refine_candidates = 3;
+  ZoomOutOptions zoomout;
+  int dense_choice_sources = 16;    // fast-marching fields per candidate for its dense distortion
   int threads = 0;                  // 0 = all cores; results do not depend on it
 
   // Throws InputError naming the first setting out of range (the schema's ranges), or the

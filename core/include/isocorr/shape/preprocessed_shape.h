@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "isocorr/geodesic/fast_marching.h"
 #include "isocorr/mesh/mesh_cleaning.h"
 #include "isocorr/sampling/saliency.h"
@@ -25,6 +27,8 @@ struct PreprocessOptions {
                                 // samples at K1 = 4, as in the paper
   int decision_level = 4;       // K1 (paper: 4, about 250 matched vertices)
   int max_level0_samples = 9;   // level-0 samples kept per mesh (M' <= this)
+  int spectral_basis = 100;     // Laplace-Beltrami eigenpairs kept for refinement (0 = none)
+  int spectral_samples = 2000;  // evenly spread vertices the refinement iterates on
   int threads = 0;              // 0 = all cores
 
   // Cache key part: two option sets with equal keys give identical preprocessing.
@@ -61,6 +65,12 @@ class PreprocessedShape {
   float field(int i, int v) const { return fields_[static_cast<size_t>(i) * mesh().num_vertices() + v]; }
   const float* field_row(int i) const { return fields_.data() + static_cast<size_t>(i) * mesh().num_vertices(); }
 
+  // The Laplace-Beltrami basis (V x spectral_basis, mass-orthonormal times sqrt(area)) and
+  // the vertices refinement iterates on; empty when spectral_basis = 0.
+  using SpectralBasis = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const SpectralBasis& spectral_basis() const { return spectral_basis_; }
+  const std::vector<int>& spectral_samples() const { return spectral_samples_; }
+
   size_t memory_bytes() const;
 
  private:
@@ -75,6 +85,8 @@ class PreprocessedShape {
   double diameter_ = 0, area_ = 0, mean_edge_ = 0;
   std::vector<int> sample_vertices_, sample_steps_;
   std::vector<float> fields_;
+  SpectralBasis spectral_basis_;
+  std::vector<int> spectral_samples_;
 };
 
 }  // namespace isocorr

@@ -1,0 +1,29 @@
+// The refinement stage after tracking: the best few distinct tracked maps are refined into
+// dense maps (ZoomOut from their sample pairs), measured by dense evidence, and the best
+// refined map is the result.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "isocorr/matching/dense_map.h"
+#include "isocorr/refinement/dense_choice.h"
+#include "isocorr/settings/match_settings.h"
+
+namespace isocorr {
+
+struct RefinedMatch {
+  DenseMap dense;  // the winner, clean numbering; confidence is the spectral residual
+  std::vector<DenseCandidate> candidates;
+  int chosen = 0;  // index into candidates
+  std::string why;
+};
+
+// `ranked`: tracked-map indices, best first by the sparse choice rule. The first
+// `settings.refine_candidates` of them whose sample images differ (a tracked map that ends
+// where a better-ranked one did is skipped) are refined.
+RefinedMatch refine_and_choose(const PreprocessedShape& source, const PreprocessedShape& target,
+                               const std::vector<TrackedMap>& tracked, const std::vector<int>& ranked,
+                               const MatchSettings& settings, const JobControl& control);
+
+}  // namespace isocorr

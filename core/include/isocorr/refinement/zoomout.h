@@ -1,0 +1,57 @@
+// Spectral upsampling of a map (ZoomOut, Melzi et al. 2019), in its sampling variant: the
+// functional map is grown from k_start to k_end basis functions on a few thousand evenly
+// spread vertices per mesh, and the dense pointwise map is recovered once at the end.
+//
+// Notation (ALGORITHM.md "Refinement after C2F"): Phi_S, Phi_T are the eigenbases (rows
+// are vertices). A map T: source -> target pulls target functions back to the source, so
+// Phi_S C ~ Phi_T[T(.)] with C = argmin ||Phi_S[samples] C - Phi_T[T(samples)]|| (k x k);
+// a source vertex v then maps to the target vertex whose row of Phi_T is nearest to row v
+// of Phi_S C.
+#pragma once
+
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "isocorr/mesh/triangle_mesh.h"
+#include "isocorr/util/progress.h"
+
+namespace isocorr {
+
+struct ZoomOutOptions {
+  int k_start = 20;  // basis size of the first functional map: low frequencies only, so a
+                     // start with local errors still gives a smooth, global C
+  int k_end = 100;   // last basis size (at most the basis the shapes hold)
+  int k_step = 5;    // growth per iteration (the paper: 1-5)
+  int threads = 0;
+};
+
+// One side of the problem: a basis (V x K, row-major floats for fast row distances), the
+// mesh topology for the dense recovery, and the vertices the iterations run on.
+struct SpectralSide {
+  const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>* basis = nullptr;
+  const MeshTopology* topology = nullptr;
+  const std::vector<int>* samples = nullptr;
+};
+
+struct SpectralMap {
+  std::vector<int> image;       // every source vertex -> target vertex
+  std::vector<float> residual;  // spectral distance of each pair (lower = better agreement)
+  std::vector<int> reverse_image;  // every target vertex -> source vertex, from the same C
+  std::vector<float> reverse_residual;
+  Eigen::MatrixXf c;            // the last functional map (k_end x k_end)
+};
+
+// Refines a map given on a few source vertices (`start`: (source vertex, target vertex)
+// pairs, at least k_start of them, e.g. the tracked samples' pairs) into a dense map.
+// Deterministic for given inputs; `control` is checked between iterations.
+SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
+                    const std::vector<std::pair<int, int>>& start, const ZoomOutOptions& options,
+                    const JobControl& control = {});
+
+// About `count` evenly spread vertices (farthest-point order in Euclidean space, from
+// vertex 0): all vertices when the mesh has fewer.
+std::vector<int> spread_vertices(const TriangleMesh& mesh, int count);
+
+}  // namespace isocorr

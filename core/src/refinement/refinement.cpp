@@ -1,0 +1,70 @@
+#include "isocorr/refinement/refinement.h"
+
+#include <unordered_map>
+
+#include "isocorr/util/error.h"
+#include "isocorr/util/parallel.h"
+
+namespace isocorr {
+namespace {
+
+// Two tracked maps that send at least this share of their common source samples to the
+// same target sample end in the same place: refining both would measure one map twice.
+constexpr double kSameMapShare = 0.8;
+
+bool same_map(const TrackedMap& a, const TrackedMap& b) {
+  std::unordered_map<int, int> image_of;
+  for (const SamplePair& p : a.pairs) image_of[p.source_sample] = p.target_sample;
+  int common = 0, same = 0;
+  for (const SamplePair& p : b.pairs) {
+    const auto it = image_of.find(p.source_sample);
+    if (it == image_of.end()) continue;
+    ++common;
+    same += it->second == p.target_sample;
+  }
+  return common > 0 && same >= kSameMapShare * common;
+}
+
+}  // namespace
+
+RefinedMatch refine_and_choose(const PreprocessedShape& source, const PreprocessedShape& target,
+                               const std::vector<TrackedMap>& tracked, const std::vector<int>& ranked,
+                               const MatchSettings& settings, const JobControl& control) {
+  if (source.spectral_basis().cols() == 0 || target.spectral_basis().cols() == 0)
+    throw InputError("refinement needs the shapes' spectral basis: spectral_basis must be positive");
+  std::vector<int> picked;
+  for (const int index : ranked) {
+    if (static_cast<int>(picked.size()) >= settings.refine_candidates) break;
+    bool distinct = true;
+    for (const int other : picked) distinct = distinct && !same_map(tracked[other], tracked[index]);
+    if (distinct) picked.push_back(index);
+  }
+
+  const SpectralSide source_side{&source.spectral_basis(), &source.geodesics().topology(), &source.spectral_samples()};
+  const SpectralSide target_side{&target.spectral_basis(), &target.geodesics().topology(), &target.spectral_samples()};
+  ZoomOutOptions options = settings.zoomout;
+  options.threads = settings.threads;
+  RefinedMatch result;
+  std::vector<SpectralMap> maps;
+  for (const int index : picked) {
+    std::vector<std::pair<int, int>> start;
+    for (const SamplePair& p : tracked[index].pairs)
+      start.emplace_back(source.sample_vertex(p.source_sample), image_vertex(target, p));
+    maps.push_back(zoomout(source_side, target_side, start, options, control));
+    DenseCandidate candidate;
+    candidate.tracked_index = index;
+    candidate.evidence = measure_dense_map(source, target, maps.back().image, maps.back().reverse_image,
+                                           settings.dense_choice_sources, settings.threads);
+    result.candidates.push_back(candidate);
+    control.check_cancelled();
+  }
+  result.chosen = choose_dense_candidate(result.candidates, settings.orientation_margin, result.why);
+  SpectralMap& winner = maps[result.chosen];
+  result.dense.forward = std::move(winner.image);
+  result.dense.forward_diso = std::move(winner.residual);
+  result.dense.reverse = std::move(winner.reverse_image);
+  result.dense.reverse_diso = std::move(winner.reverse_residual);
+  return result;
+}
+
+}  // namespace isocorr
