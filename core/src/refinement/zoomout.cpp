@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <limits>
-#include <queue>
 
 #include <Eigen/Cholesky>
 #include <Eigen/SVD>
 
 #include "isocorr/matching/surface_descent.h"
+#include "isocorr/sampling/vertex_spreading.h"
 #include "isocorr/util/error.h"
 #include "isocorr/util/parallel.h"
 
@@ -56,23 +56,6 @@ std::vector<int> nearest_rows(const RowMatrix& queries, const RowMatrix& points,
   return nearest;
 }
 
-// For every vertex, the nearest of `samples` by edge hops (breadth-first from all at once;
-// ties go to the earlier sample, so the result does not depend on threads).
-std::vector<int> nearest_sample(const MeshTopology& topology, int vertex_count, const std::vector<int>& samples) {
-  std::vector<int> owner(vertex_count, -1);
-  std::queue<int> frontier;
-  for (size_t s = 0; s < samples.size(); ++s)
-    if (owner[samples[s]] < 0) owner[samples[s]] = static_cast<int>(s), frontier.push(samples[s]);
-  while (!frontier.empty()) {
-    const int v = frontier.front();
-    frontier.pop();
-    for (const int* u = topology.neighbours_begin(v); u != topology.neighbours_end(v); ++u)
-      if (owner[*u] < 0) owner[*u] = owner[v], frontier.push(*u);
-  }
-  for (int& o : owner) o = std::max(o, 0);  // vertices cut off from every sample
-  return owner;
-}
-
 // The vertex of `rows`' mesh nearest to `query` in the embedding, by descent from `start`;
 // `best` receives the squared distance.
 int descend_in_embedding(const float* query, const RowMatrix& rows, const MeshTopology& topology, int start,
@@ -92,46 +75,28 @@ int descend_in_embedding(const float* query, const RowMatrix& rows, const MeshTo
 
 // Dense recovery in one direction: each `from` vertex goes to the `to` vertex whose row
 // of `to_rows` is nearest to its own row of `from_rows`, found by descent on the `to` mesh
-// from the image of the nearest `from` sample (which the sample-level search placed).
-void recover_dense(const RowMatrix& from_rows, const MeshTopology& from_topology, const std::vector<int>& from_samples,
-                   const std::vector<int>& sample_images, const RowMatrix& to_rows, const MeshTopology& to_topology,
-                   int threads, std::vector<int>& image, std::vector<float>& residual) {
+// from `start[v]`.
+void recover_dense(const RowMatrix& from_rows, const RowMatrix& to_rows, const MeshTopology& to_topology,
+                   const std::vector<int>& start, int threads, std::vector<int>& image, std::vector<float>& residual) {
   const int n = static_cast<int>(from_rows.rows());
-  const std::vector<int> owner = nearest_sample(from_topology, n, from_samples);
   image.assign(n, 0);
   residual.assign(n, 0.f);
   parallel_for(n, threads, [&](int v, int) {
     float best = 0;
-    image[v] = descend_in_embedding(from_rows.row(v).data(), to_rows, to_topology, sample_images[owner[v]], &best);
+    image[v] = descend_in_embedding(from_rows.row(v).data(), to_rows, to_topology, start[v], &best);
     residual[v] = std::sqrt(best);
   });
 }
 
-}  // namespace
-
-std::vector<int> spread_vertices(const TriangleMesh& mesh, int count) {
-  const int n = mesh.num_vertices();
-  if (count >= n) {
-    std::vector<int> all(n);
-    for (int v = 0; v < n; ++v) all[v] = v;
-    return all;
-  }
-  std::vector<float> distance(n, std::numeric_limits<float>::max());
-  std::vector<int> chosen;
-  chosen.reserve(count);
-  int next = 0;
-  while (static_cast<int>(chosen.size()) < count) {
-    chosen.push_back(next);
-    const Vec3 p = mesh.vertices[next];
-    int farthest = 0;
-    for (int v = 0; v < n; ++v) {
-      distance[v] = std::min(distance[v], static_cast<float>((mesh.vertices[v] - p).squaredNorm()));
-      if (distance[v] > distance[farthest]) farthest = v;
-    }
-    next = farthest;
-  }
-  return chosen;
+// Starts for the dense recovery: each vertex starts at the image of its nearest sample.
+std::vector<int> starts_from_samples(const MeshTopology& topology, int vertex_count, const std::vector<int>& samples,
+                                     const std::vector<int>& sample_images) {
+  std::vector<int> start = nearest_centre(topology, vertex_count, samples);
+  for (int& s : start) s = sample_images[s];
+  return start;
 }
+
+}  // namespace
 
 SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
                     const std::vector<std::pair<int, int>>& start, const ZoomOutOptions& options,
@@ -168,13 +133,23 @@ SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
     if (k == k_end) break;
   }
 
-  // Dense recovery at k_end.
+  // Dense recovery at k_end, then `dense_iterations` refits of C on every vertex (the
+  // samples fix C's low-frequency part; all vertices sharpen the last basis functions).
   SpectralMap result;
-  result.c = c;
-  const RowMatrix pulled = phi_s.leftCols(k_end) * c;  // source vertices in target coordinates
+  const RowMatrix source_rows = phi_s.leftCols(k_end);
   const RowMatrix target_rows = phi_t.leftCols(k_end);
-  recover_dense(pulled, *source.topology, source_samples, images, target_rows, *target.topology, threads,
-                result.image, result.residual);
+  RowMatrix pulled = source_rows * c;  // source vertices in target coordinates
+  recover_dense(pulled, target_rows, *target.topology,
+                starts_from_samples(*source.topology, static_cast<int>(phi_s.rows()), source_samples, images),
+                threads, result.image, result.residual);
+  for (int iteration = 0; iteration < options.dense_iterations; ++iteration) {
+    control.check_cancelled();
+    c = fit_functional_map(source_rows, gather_rows(target_rows, result.image, k_end));
+    pulled = source_rows * c;
+    const std::vector<int> start = result.image;
+    recover_dense(pulled, target_rows, *target.topology, start, threads, result.image, result.residual);
+  }
+  result.c = c;
   control.check_cancelled();
 
   // The reverse map from the same C: each target vertex goes to the source vertex whose
@@ -183,8 +158,9 @@ SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
   const std::vector<int> nearest = nearest_rows(gather_rows(target_rows, target_samples, k_end), pulled_samples, threads);
   std::vector<int> reverse_images(target_samples.size());
   for (size_t i = 0; i < reverse_images.size(); ++i) reverse_images[i] = source_samples[nearest[i]];
-  recover_dense(target_rows, *target.topology, target_samples, reverse_images, pulled, *source.topology, threads,
-                result.reverse_image, result.reverse_residual);
+  recover_dense(target_rows, pulled, *source.topology,
+                starts_from_samples(*target.topology, static_cast<int>(phi_t.rows()), target_samples, reverse_images),
+                threads, result.reverse_image, result.reverse_residual);
   return result;
 }
 

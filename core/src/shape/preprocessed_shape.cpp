@@ -4,9 +4,9 @@
 #include <cmath>
 
 #include "isocorr/sampling/salient_sampling.h"
-#include "isocorr/refinement/zoomout.h"
+#include "isocorr/sampling/vertex_spreading.h"
 #include "isocorr/settings/settings_schema.h"
-#include "isocorr/spectral/laplace_beltrami.h"
+#include "isocorr/spectral/reduced_laplace_basis.h"
 #include "isocorr/util/parallel.h"
 
 namespace isocorr {
@@ -78,7 +78,9 @@ std::shared_ptr<const PreprocessedShape> PreprocessedShape::build(const Triangle
   if (options.spectral_basis > 0) {
     // Mass-orthonormal eigenvectors scaled by sqrt(area): the same shape at another scale
     // gets the same embedding, so spectral distances compare across meshes.
-    const LaplaceBasis basis = compute_laplace_basis(mesh, options.spectral_basis);
+    const LaplaceBasis basis =
+        options.spectral_cells > 0 ? compute_reduced_laplace_basis(mesh, options.spectral_basis, options.spectral_cells)
+                                   : compute_laplace_basis(mesh, options.spectral_basis);
     shape->spectral_basis_ = (basis.eigenvectors * std::sqrt(shape->area_)).cast<float>();
     shape->spectral_samples_ = spread_vertices(mesh, options.spectral_samples);
   }

@@ -176,19 +176,25 @@ Eigen::VectorXd lumped_mass(const TriangleMesh& mesh) {
 
 LaplaceBasis compute_laplace_basis(const TriangleMesh& mesh, int k,
                                    const LaplaceBasisOptions& options) {
-  const int n = mesh.num_vertices();
-  if (k < 1) throw InputError("Laplace-Beltrami basis: k must be at least 1, got " + std::to_string(k));
-  if (n < 2) throw InputError("Laplace-Beltrami basis: the mesh needs at least 2 vertices");
-  k = std::min(k, n - 1);
-
-  LaplaceBasis basis;
-  basis.mass = lumped_mass(mesh);
+  if (mesh.num_vertices() < 2) throw InputError("Laplace-Beltrami basis: the mesh needs at least 2 vertices");
+  const Eigen::VectorXd mass = lumped_mass(mesh);
   Eigen::Index massless = 0;
-  if (basis.mass.minCoeff(&massless) <= 0) {
+  if (mass.minCoeff(&massless) <= 0) {
     throw InputError("Laplace-Beltrami basis: vertex " + std::to_string(massless) +
                      " has no area (unreferenced, or only in zero-area faces); clean the mesh first");
   }
-  const SparseMatrix stiffness = cotangent_laplacian(mesh);
+  return laplace_eigenpairs(cotangent_laplacian(mesh), mass, k, options);
+}
+
+LaplaceBasis laplace_eigenpairs(const Eigen::SparseMatrix<double>& stiffness, const Eigen::VectorXd& lumped,
+                                int k, const LaplaceBasisOptions& options) {
+  const int n = static_cast<int>(stiffness.rows());
+  if (k < 1) throw InputError("Laplace-Beltrami basis: k must be at least 1, got " + std::to_string(k));
+  if (n < 2) throw InputError("Laplace-Beltrami basis: the problem needs at least 2 unknowns");
+  k = std::min(k, n - 1);
+
+  LaplaceBasis basis;
+  basis.mass = lumped;
   SparseMatrix mass(n, n);
   {
     std::vector<Eigen::Triplet<double>> diagonal;
@@ -230,9 +236,13 @@ LaplaceBasis compute_laplace_basis(const TriangleMesh& mesh, int k,
   }
   basis.eigenvalues = pairs.values;
   basis.eigenvectors = pairs.vectors;
-  make_mass_orthonormal(basis.mass, basis.eigenvectors);
-  fix_signs(basis.eigenvectors);
+  normalise_basis(basis.mass, basis.eigenvectors);
   return basis;
+}
+
+void normalise_basis(const Eigen::VectorXd& mass, Eigen::MatrixXd& eigenvectors) {
+  make_mass_orthonormal(mass, eigenvectors);
+  fix_signs(eigenvectors);
 }
 
 }  // namespace isocorr

@@ -24,6 +24,7 @@ struct ZoomOutOptions {
                      // start with local errors still gives a smooth, global C
   int k_end = 100;   // last basis size (at most the basis the shapes hold)
   int k_step = 5;    // growth per iteration (the paper: 1-5)
+  int dense_iterations = 1;  // refits of C on every vertex after the sampled iterations
   int threads = 0;
 };
 
@@ -49,9 +50,5 @@ struct SpectralMap {
 SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
                     const std::vector<std::pair<int, int>>& start, const ZoomOutOptions& options,
                     const JobControl& control = {});
-
-// About `count` evenly spread vertices (farthest-point order in Euclidean space, from
-// vertex 0): all vertices when the mesh has fewer.
-std::vector<int> spread_vertices(const TriangleMesh& mesh, int count);
 
 }  // namespace isocorr

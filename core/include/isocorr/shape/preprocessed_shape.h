@@ -29,6 +29,8 @@ struct PreprocessOptions {
   int max_level0_samples = 9;   // level-0 samples kept per mesh (M' <= this)
   int spectral_basis = 100;     // Laplace-Beltrami eigenpairs kept for refinement (0 = none)
   int spectral_samples = 2000;  // evenly spread vertices the refinement iterates on
+  int spectral_cells = 0;       // meshes with more vertices solve the eigenproblem on this
+                                // many cells (reduced_laplace_basis.h); 0 = never
   int threads = 0;              // 0 = all cores
 
   // Cache key part: two option sets with equal keys give identical preprocessing.

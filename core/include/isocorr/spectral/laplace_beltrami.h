@@ -55,4 +55,14 @@ struct LaplaceBasis {
 LaplaceBasis compute_laplace_basis(const TriangleMesh& mesh, int k,
                                    const LaplaceBasisOptions& options = {});
 
+// The same for any stiffness matrix (symmetric positive semi-definite, rows summing to 0)
+// with a diagonal mass: what compute_laplace_basis solves, and what a reduced problem
+// (reduced_laplace_basis.h) solves on fewer unknowns.
+LaplaceBasis laplace_eigenpairs(const Eigen::SparseMatrix<double>& stiffness, const Eigen::VectorXd& mass, int k,
+                                const LaplaceBasisOptions& options = {});
+
+// Makes `eigenvectors` M-orthonormal (the nearest such basis) with each column's
+// largest-magnitude entry positive, as both solvers return them.
+void normalise_basis(const Eigen::VectorXd& mass, Eigen::MatrixXd& eigenvectors);
+
 }  // namespace isocorr
