@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 
 #include "isocorr/sampling/salient_sampling.h"
 #include "isocorr/sampling/vertex_spreading.h"
@@ -35,6 +36,16 @@ std::shared_ptr<const PreprocessedShape> PreprocessedShape::build(const Triangle
   control.check_cancelled();
 
   const int threads = resolve_thread_count(options.threads);
+  // The eigensolver is sequential; with two or more threads it runs beside the geodesic
+  // work below instead of after it (michael0, 52K vertices: 13.6 s -> see the commit).
+  auto compute_basis = [&mesh, &options] {
+    return options.spectral_cells > 0
+               ? compute_reduced_laplace_basis(mesh, options.spectral_basis, options.spectral_cells)
+               : compute_laplace_basis(mesh, options.spectral_basis);
+  };
+  std::future<LaplaceBasis> basis;
+  if (options.spectral_basis > 0)
+    basis = std::async(threads > 1 ? std::launch::async : std::launch::deferred, compute_basis);
   shape->saliency_ = compute_saliency(*shape->geodesics_, options.saliency, threads);
   control.check_cancelled();
 
@@ -75,13 +86,10 @@ std::shared_ptr<const PreprocessedShape> PreprocessedShape::build(const Triangle
   for (float& value : shape->fields_) value = value == kUnreached ? 1.f : value * inverse_diameter;
   control.check_cancelled();
 
-  if (options.spectral_basis > 0) {
+  if (basis.valid()) {
     // Mass-orthonormal eigenvectors scaled by sqrt(area): the same shape at another scale
     // gets the same embedding, so spectral distances compare across meshes.
-    const LaplaceBasis basis =
-        options.spectral_cells > 0 ? compute_reduced_laplace_basis(mesh, options.spectral_basis, options.spectral_cells)
-                                   : compute_laplace_basis(mesh, options.spectral_basis);
-    shape->spectral_basis_ = (basis.eigenvectors * std::sqrt(shape->area_)).cast<float>();
+    shape->spectral_basis_ = (basis.get().eigenvectors * std::sqrt(shape->area_)).cast<float>();
     shape->spectral_samples_ = spread_vertices(mesh, options.spectral_samples);
   }
   return shape;
