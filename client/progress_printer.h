@@ -18,10 +18,12 @@ namespace isocorr::cli {
 
 class ProgressPrinter {
  public:
-  // `log_line` receives the one-line-per-stage messages when stderr is not a terminal.
-  explicit ProgressPrinter(std::function<void(const std::string&)> log_line = [](const std::string& line) {
-    spdlog::info("{}", line);
-  }) : terminal_(isatty(STDERR_FILENO)), log_line_(std::move(log_line)) {}
+  // `log_line` receives the one-line-per-stage messages when `terminal` is false (a bar is
+  // drawn on stderr otherwise).
+  explicit ProgressPrinter(
+      std::function<void(const std::string&)> log_line = [](const std::string& line) { spdlog::info("{}", line); },
+      bool terminal = isatty(STDERR_FILENO))
+      : terminal_(terminal), log_line_(std::move(log_line)) {}
   void operator()(const Progress& p) {
     std::lock_guard lock(mutex_);
     if (terminal_) {

@@ -134,8 +134,11 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
     result.diso = result.refined[result.refined_chosen].evidence.distortion;
     result.diso_max = result.refined[result.refined_chosen].evidence.distortion_max;
   }
-  result.dense_orientation = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
-                                                         target.normals(), dense.forward);
+  // Refined: measured already while choosing.
+  result.dense_orientation = result.refined.empty()
+                                 ? dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
+                                                             target.normals(), dense.forward)
+                                 : result.refined[result.refined_chosen].evidence.orientation;
   for (const auto& note : sc.repairs) result.notes.push_back("source: " + note);
   for (const auto& note : tc.repairs) result.notes.push_back("target: " + note);
   control.report({"done", total_levels, total_levels, 1.0});

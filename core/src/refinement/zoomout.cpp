@@ -56,11 +56,10 @@ std::vector<int> nearest_rows(const RowMatrix& queries, const RowMatrix& points,
   return nearest;
 }
 
-// The vertex of `rows`' mesh nearest to `query` in the embedding, by descent from `start`;
-// `best` receives the squared distance.
-int descend_in_embedding(const float* query, const RowMatrix& rows, const MeshTopology& topology, int start,
+// The vertex of `rows`' mesh nearest to `query` in the embedding of the first k columns,
+// by descent from `start`; `best` receives the squared distance.
+int descend_in_embedding(const float* query, const RowMatrix& rows, int k, const MeshTopology& topology, int start,
                          float* best = nullptr) {
-  const int k = static_cast<int>(rows.cols());
   auto cost = [&](int w) {
     const float* p = rows.row(w).data();
     float sum = 0;
@@ -83,7 +82,8 @@ void recover_dense(const RowMatrix& from_rows, const RowMatrix& to_rows, const M
   residual.assign(n, 0.f);
   parallel_for(n, threads, [&](int v, int) {
     float best = 0;
-    image[v] = descend_in_embedding(from_rows.row(v).data(), to_rows, to_topology, start[v], &best);
+    image[v] = descend_in_embedding(from_rows.row(v).data(), to_rows, static_cast<int>(from_rows.cols()),
+                                    to_topology, start[v], &best);
     residual[v] = std::sqrt(best);
   });
 }
@@ -126,9 +126,8 @@ SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
     if (c.rows() != k) c = fit_functional_map(gather_rows(phi_s, source_samples, k), gather_rows(phi_t, images, k));
     const RowMatrix queries = gather_rows(phi_s, source_samples, k) * c;
     const std::vector<int> nearest = nearest_rows(queries, gather_rows(phi_t, target_samples, k), threads);
-    const RowMatrix target_rows = phi_t.leftCols(k);
     parallel_for(static_cast<int>(images.size()), threads, [&](int i, int) {
-      images[i] = descend_in_embedding(queries.row(i).data(), target_rows, *target.topology, target_samples[nearest[i]]);
+      images[i] = descend_in_embedding(queries.row(i).data(), phi_t, k, *target.topology, target_samples[nearest[i]]);
     });
     if (k == k_end) break;
   }
