@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -62,8 +63,10 @@ ServerProcess::ServerProcess(fs::path data_dir, std::vector<std::string> extra)
   fs::create_directories(data_dir_);
   const fs::path port_file = data_dir_.string() + ".port";
   fs::remove(port_file);
-  std::vector<std::string> args = {ISOCORR_SERVER_PATH, "--listen", "127.0.0.1:0", "--data-dir", data_dir_.string(),
-                                   "--port-file", port_file.string(), "--log-level", "debug"};
+  std::vector<std::string> args = {ISOCORR_SERVER_PATH, "--data-dir", data_dir_.string(), "--port-file",
+                                   port_file.string(), "--log-level", "debug"};
+  if (std::find(extra.begin(), extra.end(), "--listen") == extra.end())
+    args.insert(args.end(), {"--listen", "127.0.0.1:0"});
   args.insert(args.end(), extra.begin(), extra.end());
   pid_ = fork();
   if (pid_ == 0) {
@@ -104,6 +107,10 @@ void ServerProcess::kill_hard() {
   ::kill(pid_, SIGKILL);
   waitpid(pid_, nullptr, 0);
   pid_ = -1;
+}
+
+void ServerProcess::send_signal(int signal_number) const {
+  if (pid_ > 0) ::kill(pid_, signal_number);
 }
 
 int ServerProcess::terminate() {

@@ -26,8 +26,8 @@ int wait_for_exit(pid_t pid);
 
 class ServerProcess {
  public:
-  // Starts isocorr-server --listen 127.0.0.1:0 --data-dir `data_dir` plus `extra` flags and
-  // waits (bounded) until it has written its port.
+  // Starts isocorr-server --listen 127.0.0.1:0 (unless `extra` has a --listen) --data-dir
+  // `data_dir` plus `extra` flags and waits (bounded) until it has written its port.
   ServerProcess(std::filesystem::path data_dir, std::vector<std::string> extra = {});
   ~ServerProcess();
 
@@ -38,6 +38,7 @@ class ServerProcess {
   CommandRun client(const std::string& arguments) const;
 
   void kill_hard();   // SIGKILL, as a crash would
+  void send_signal(int signal_number) const;  // and does not wait for the server to exit
   int terminate();    // SIGTERM; returns the exit status
 
  private:

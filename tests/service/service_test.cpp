@@ -16,24 +16,15 @@
 
 #include "isocorr/mesh/mesh_io.h"
 #include "isocorr/mesh/procedural_meshes.h"
+#include "client_json.h"
 #include "server_process.h"
+#include "suite_files.h"
 
 namespace isocorr::testing {
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-// The last JSON object a command printed (watch prints one per line).
-json last_json(const CommandRun& run) {
-  std::istringstream lines(run.out);
-  json last = json::object();
-  for (std::string line; std::getline(lines, line);)
-    if (!line.empty() && line[0] == '{') last = json::parse(line);
-  return last;
-}
-
-std::string error_code(const CommandRun& run) { return last_json(run).value("error", json::object()).value("code", ""); }
 
 // "2026-11-23T11:22:33.456Z" (proto3 JSON timestamp) -> milliseconds since midnight.
 int64_t milliseconds_of_day(const std::string& timestamp) {
@@ -64,35 +55,24 @@ void write_ascii_off(const fs::path& path, const TriangleMesh& mesh) {
   for (const Face& f : mesh.faces) out << "3 " << f[0] << ' ' << f[1] << ' ' << f[2] << '\n';
 }
 
-class Service : public ::testing::Test {
+class Service : public WithSuiteFiles<Service> {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new fs::path(fs::temp_directory_path() / ("isocorr_service_test_" + std::to_string(getpid())));
-    fs::remove_all(*dir_);
-    fs::create_directories(*dir_);
+    make_suite_dir("isocorr_service_test");
     // A small asymmetric pair with a known answer: matches in seconds.
     const TriangleMesh creature = limbed_blob(3);
     const RenumberedCopy moved = rotated_scaled_renumbered(creature, 1.3, 7);
-    write_ply((*dir_ / "creature.ply").string(), creature);
-    write_ply((*dir_ / "creature_moved.ply").string(), moved.mesh);
+    write_ply(path("creature.ply").string(), creature);
+    write_ply(path("creature_moved.ply").string(), moved.mesh);
     *truth_ = moved.permutation;
     // Above gRPC's 4 MiB default message size, so it must travel in chunks; and slow to
     // preprocess, so jobs on it are still running when the tests cancel or kill them.
-    write_ascii_off(*dir_ / "sphere.off", icosphere(7));
-    std::ofstream(*dir_ / "broken.off") << "OFF\n3 1 0\n0 0 0\n1 0 0\n";
-    std::ofstream(*dir_ / "tetrahedron.off")
+    write_ascii_off(path("sphere.off"), icosphere(7));
+    std::ofstream(path("broken.off")) << "OFF\n3 1 0\n0 0 0\n1 0 0\n";
+    std::ofstream(path("tetrahedron.off"))
         << "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
-    std::ofstream(*dir_ / "token") << "s3cret-token\n";
-    std::ofstream(*dir_ / "wrong_token") << "guess\n";
-  }
-  static void TearDownTestSuite() {
-    fs::remove_all(*dir_);
-    delete dir_;
-  }
-  static fs::path path(const std::string& name) { return *dir_ / name; }
-  // A fresh data directory per test.
-  fs::path data_dir() const {
-    return *dir_ / (std::string("data_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::ofstream(path("token")) << "s3cret-token\n";
+    std::ofstream(path("wrong_token")) << "guess\n";
   }
 
   // Polls (bounded) until the job is RUNNING; the job must not finish meanwhile.
@@ -105,10 +85,8 @@ class Service : public ::testing::Test {
     FAIL() << job << " never started";
   }
 
-  static fs::path* dir_;
   static std::vector<int>* truth_;
 };
-fs::path* Service::dir_ = nullptr;
 std::vector<int>* Service::truth_ = new std::vector<int>;
 
 TEST_F(Service, UploadsLargeMeshInChunksAndDuplicateIsNoOp) {
