@@ -43,8 +43,9 @@ int run_remote_match(const ConnectionOptions& options, const MatchJobFiles& file
 
     std::signal(SIGINT, on_match_interrupt);
     ProgressPrinter printer;
-    job = follow_job(connection, job.name(), [&](const v1::Job& update) { printer(progress_of(update)); },
-                     &g_match_interrupted);
+    job = follow_job_across_restarts(connection, job.name(),
+                                     [&](const v1::Job& update) { printer(progress_of(update)); },
+                                     &g_match_interrupted, std::chrono::seconds(options.timeout_seconds));
     if (job.state() != v1::Job::SUCCEEDED) {
       spdlog::error("{}: no map written", describe_job(job));
       return exit_code_for_job(job);

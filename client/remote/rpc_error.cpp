@@ -51,12 +51,11 @@ int exit_code_for(grpc::StatusCode code) {
       return kExitBadInput;
     case grpc::StatusCode::UNAVAILABLE:
     case grpc::StatusCode::DEADLINE_EXCEEDED:
+    case grpc::StatusCode::CANCELLED:  // the client cancels no call it reports: the server ended it
       return kExitUnavailable;
     case grpc::StatusCode::UNAUTHENTICATED:
     case grpc::StatusCode::PERMISSION_DENIED:
       return kExitUnauthenticated;
-    case grpc::StatusCode::CANCELLED:
-      return kExitCancelled;
     default:
       return kExitFailure;
   }
