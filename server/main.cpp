@@ -16,6 +16,7 @@
 #include "api/auth.h"
 #include "api/job_service.h"
 #include "api/mesh_service.h"
+#include "api/upload_budget.h"
 #include "jobs/job_manager.h"
 #include "jobs/shape_cache.h"
 #include "server_options.h"
@@ -42,6 +43,16 @@ std::shared_ptr<grpc::ServerCredentials> credentials(const ServerOptions& option
   return grpc::SslServerCredentials(ssl);
 }
 
+// Linking gRPC's reflection library registers its plugin for every server at load time, so
+// leaving it out takes removing it: this option does so on a server that requires a token.
+class WithoutReflection final : public grpc::ServerBuilderOption {
+ public:
+  void UpdateArguments(grpc::ChannelArguments*) override {}
+  void UpdatePlugins(std::vector<std::unique_ptr<grpc::ServerBuilderPlugin>>* plugins) override {
+    std::erase_if(*plugins, [](const auto& plugin) { return plugin->name() == "proto_server_reflection"; });
+  }
+};
+
 int run(const ServerOptions& options) {
   // SIGTERM and SIGINT are taken by sigwait below, so block them before any thread starts.
   sigset_t signals;
@@ -50,6 +61,9 @@ int run(const ServerOptions& options) {
   sigaddset(&signals, SIGINT);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
+  if (options.max_upload_bytes_in_flight < options.max_mesh_bytes)
+    throw std::runtime_error("--max-upload-bytes-in-flight must be at least --max-mesh-bytes, or no mesh of the "
+                             "largest size could be uploaded");
   const TokenAuth auth(options.token_file.empty() ? "" : read_secret(options.token_file, "token file"));
   std::filesystem::create_directories(options.data_dir);
   MeshStore meshes(options.data_dir, options.max_mesh_bytes);
@@ -58,12 +72,18 @@ int run(const ServerOptions& options) {
   JobManager jobs({options.threads, options.max_queued_jobs, options.max_attempts}, meshes, journal, cache);
   jobs.recover_and_start();
 
-  MeshServiceImpl mesh_service(meshes, cache, jobs, auth);
+  UploadBudget upload_budget(options.max_upload_bytes_in_flight);
+  MeshServiceImpl mesh_service(meshes, cache, jobs, upload_budget, auth);
   JobServiceImpl job_service(jobs, auth);
   grpc::EnableDefaultHealthCheckService(true);
   // Reflection cannot check our bearer token, so it is offered only when there is none.
-  if (!auth.enabled()) grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();  // (loading the library does so too)
   grpc::ServerBuilder builder;
+  if (auth.enabled()) builder.SetOption(std::make_unique<WithoutReflection>());
+  // With SO_REUSEPORT, gRPC 1.51 opens one more listener per extra poller, and for port 0
+  // each of those binds a port of its own that nobody is told about. Without it there is
+  // one listener, and a second server cannot silently share a fixed port either.
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   int port = 0;
   builder.AddListeningPort(options.listen, credentials(options), &port);
   builder.RegisterService(&mesh_service);
@@ -77,12 +97,16 @@ int run(const ServerOptions& options) {
   spdlog::info("isocorr-server listening on {}:{} ({}, {}), data in {}, {} worker(s)", host, port,
                options.tls_cert.empty() ? "plaintext" : "TLS", auth.enabled() ? "bearer token" : "no auth",
                options.data_dir, options.threads);
-  if (!options.port_file.empty()) write_file_durably(options.port_file, std::to_string(port) + "\n");
+  // Absolute, so that a bare file name has a directory to sync.
+  if (!options.port_file.empty())
+    write_file_durably(std::filesystem::absolute(options.port_file), std::to_string(port) + "\n");
 
   int signal_number = 0;
   sigwait(&signals, &signal_number);
   spdlog::info("signal {}: shutting down (running jobs are kept for the next start)", signal_number);
-  // Stop accepting; calls still open after the grace period (watches, waits) are cancelled.
+  // Watches and waits end at once with UNAVAILABLE, not CANCELLED: their jobs are kept.
+  job_service.stop_long_calls();
+  // Stop accepting; calls still open after the grace period are cancelled.
   server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(options.shutdown_grace_seconds));
   jobs.shutdown();
   spdlog::info("stopped");

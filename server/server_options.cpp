@@ -10,6 +10,10 @@ void add_server_flags(CLI::App& app, ServerOptions& o) {
   app.add_option("--threads", o.threads, "jobs run at once (worker threads)")->check(CLI::Range(1, 256))->capture_default_str();
   app.add_option("--cache-bytes", o.cache_bytes, "memory for preprocessed meshes shared by jobs (LRU)")->capture_default_str();
   app.add_option("--max-mesh-bytes", o.max_mesh_bytes, "largest mesh file accepted by UploadMesh")->capture_default_str();
+  app.add_option("--max-upload-bytes-in-flight", o.max_upload_bytes_in_flight,
+                 "UploadMesh fails with RESOURCE_EXHAUSTED while the uploads in progress announce more bytes "
+                 "than this in all (at least --max-mesh-bytes)")
+      ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--max-queued-jobs", o.max_queued_jobs, "CreateMatchJob fails with RESOURCE_EXHAUSTED beyond this")
       ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--max-attempts", o.max_attempts, "times a job interrupted by a crash is started before it fails")

@@ -16,6 +16,9 @@ struct ServerOptions {
   int threads = 1;                          // jobs run at once; each uses all cores (engine default)
   int64_t cache_bytes = int64_t{2} << 30;   // preprocessed meshes kept in memory
   int64_t max_mesh_bytes = int64_t{512} << 20;
+  // Declared sizes of all uploads in progress together: parsing a mesh takes about twice
+  // its size in memory, so this bounds the memory uploads can take.
+  int64_t max_upload_bytes_in_flight = int64_t{512} << 20;
   int max_queued_jobs = 64;
   int max_attempts = 3;                     // starts of a job interrupted by crashes before it fails
   int shutdown_grace_seconds = 5;

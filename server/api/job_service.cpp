@@ -5,6 +5,7 @@
 
 #include "api/call_guard.h"
 #include "api/paging.h"
+#include "api/request_limits.h"
 #include "api/resource_codec.h"
 #include "codec/result_part_codec.h"
 #include "codec/settings_codec.h"
@@ -22,17 +23,26 @@ constexpr size_t kIndicesPerChunk = 256 * 1024;  // 1 MiB of int32, under the 4 
 constexpr size_t kReportBytesPerChunk = 1 << 20;
 
 std::string require_job_id(const std::string& name) {
+  require_bounded("name", name, kMaxNameBytes);
   const std::string id = job_id_from_name(name);
-  if (id.empty()) throw ServiceError(Kind::kInvalidArgument, "job names look like jobs/{id}, got '" + name + "'");
+  if (id.empty())
+    throw ServiceError(Kind::kInvalidArgument, "job names look like jobs/{id}, got " + quoted_prefix(name));
   return id;
 }
 
 std::string require_mesh_digest(const std::string& name, const char* field) {
+  require_bounded(field, name, kMaxNameBytes);
   const std::string digest = mesh_digest_from_name(name);
   if (digest.empty())
     throw ServiceError(Kind::kInvalidArgument,
-                       std::string(field) + " must look like meshes/{sha256}, got '" + name + "'");
+                       std::string(field) + " must look like meshes/{sha256}, got " + quoted_prefix(name));
   return digest;
+}
+
+// Ends a watch or wait that the server's shutdown interrupts: the job itself is kept.
+grpc::Status server_stopping(const std::string& name) {
+  return grpc::Status(grpc::StatusCode::UNAVAILABLE,
+                      "the server is stopping (" + name + " is kept)");
 }
 
 // The caller's deadline on the steady clock (far future when it set none).
@@ -83,9 +93,8 @@ grpc::Status JobServiceImpl::ListJobs(grpc::ServerContext* context, const v1::Li
                                       v1::ListJobsResponse* response) {
   return guarded_call("ListJobs", *context, auth_, [&](const CallInfo&) {
     const std::vector<JobRecord> jobs = jobs_.list();
-    const Page page = page_of(jobs.size(), request->page_size(), request->page_token());
-    for (size_t i = page.begin; i < page.end; ++i) *response->add_jobs() = job_to_proto(jobs[i]);
-    response->set_next_page_token(page.next_token);
+    response->set_next_page_token(fill_page(*response->mutable_jobs(), jobs.size(), request->page_size(),
+                                            request->page_token(), [&](size_t i) { return job_to_proto(jobs[i]); }));
     return grpc::Status::OK;
   });
 }
@@ -109,8 +118,10 @@ grpc::Status JobServiceImpl::WaitJob(grpc::ServerContext* context, const v1::Wai
       deadline = std::min(deadline, Clock::now() + std::chrono::duration_cast<Clock::duration>(timeout));
     }
     JobRecord job = jobs_.get(id);
-    while (!is_final(job.state) && Clock::now() < deadline && !context->IsCancelled())
+    while (!is_final(job.state) && Clock::now() < deadline && !context->IsCancelled()) {
+      if (stopping_) return server_stopping(request->name());
       job = jobs_.wait_for_change(id, job.version, std::min(deadline, Clock::now() + kPollInterval));
+    }
     *response = job_to_proto(job);  // AIP-151: not done yet is a normal answer
     return grpc::Status::OK;
   });
@@ -124,6 +135,7 @@ grpc::Status JobServiceImpl::WatchJob(grpc::ServerContext* context, const v1::Wa
     if (!writer->Write(job_to_proto(job))) return grpc::Status::OK;
     while (!is_final(job.state)) {
       if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "watch cancelled by the client");
+      if (stopping_) return server_stopping(request->name());
       const uint64_t seen = job.version;
       job = jobs_.wait_for_change(id, seen, Clock::now() + kPollInterval);
       if (job.version != seen && !writer->Write(job_to_proto(job))) return grpc::Status::OK;

@@ -1,6 +1,8 @@
 // isocorr.v1.JobService: translates requests to the job manager and the journal's results.
 #pragma once
 
+#include <atomic>
+
 #include "api/auth.h"
 #include "isocorr/v1/isocorr.grpc.pb.h"
 #include "jobs/job_manager.h"
@@ -23,9 +25,14 @@ class JobServiceImpl final : public v1::JobService::Service {
   grpc::Status DownloadResult(grpc::ServerContext* context, const v1::DownloadResultRequest* request,
                               grpc::ServerWriter<v1::ResultChunk>* writer) override;
 
+  // Ends open watches and waits with UNAVAILABLE (within a poll interval), so that their
+  // clients learn the server is going away rather than that their job was cancelled.
+  void stop_long_calls() { stopping_ = true; }
+
  private:
   JobManager& jobs_;
   const TokenAuth& auth_;
+  std::atomic<bool> stopping_{false};
 };
 
 }  // namespace isocorr::server

@@ -4,15 +4,20 @@
 
 #include "api/call_guard.h"
 #include "api/paging.h"
+#include "api/request_limits.h"
 #include "api/resource_codec.h"
+#include "isocorr/util/sha256.h"
 #include "service_error.h"
 
 namespace isocorr::server {
 using Kind = ServiceError::Kind;
 
 MeshInfo MeshServiceImpl::require(const std::string& name) const {
+  require_bounded("name", name, kMaxNameBytes);
   const std::string digest = mesh_digest_from_name(name);
-  if (digest.empty()) throw ServiceError(Kind::kInvalidArgument, "mesh names look like meshes/{sha256} (64 lower-case hex digits), got '" + name + "'");
+  if (digest.empty())
+    throw ServiceError(Kind::kInvalidArgument,
+                       "mesh names look like meshes/{sha256} (64 lower-case hex digits), got " + quoted_prefix(name));
   auto info = meshes_.get(digest);
   if (!info) throw ServiceError(Kind::kNotFound, "no mesh " + name + " on this server; upload it first");
   return *info;
@@ -25,7 +30,12 @@ grpc::Status MeshServiceImpl::UploadMesh(grpc::ServerContext* context,
     v1::UploadMeshRequest request;
     if (!reader->Read(&request) || !request.has_header())
       throw ServiceError(Kind::kInvalidArgument, "the first UploadMesh message must carry the header");
-    const auto& header = request.header();
+    const v1::UploadMeshRequest::Header header = request.header();  // a copy: `request` is reused below
+    if (!is_sha256_hex(header.sha256()))
+      throw ServiceError(Kind::kInvalidArgument,
+                         "sha256 must be 64 lower-case hex characters, got " + quoted_prefix(header.sha256()));
+    require_bounded("filename", header.filename(), kMaxFilenameBytes);
+    require_upload_size(header.size_bytes());
     if (auto existing = meshes_.get(header.sha256())) {
       // Content-addressed: same digest, same bytes. The rest of the stream is not read.
       *response->mutable_mesh() = mesh_to_proto(*existing, cache_.state_of_mesh(existing->digest));
@@ -33,11 +43,22 @@ grpc::Status MeshServiceImpl::UploadMesh(grpc::ServerContext* context,
       return grpc::Status::OK;
     }
     auto upload = meshes_.begin_upload(header.sha256(), header.filename(), header.size_bytes());
+    const UploadBudget::Reservation reservation = upload_budget_.reserve(header.size_bytes());
+    reader->SendInitialMetadata();  // tells a waiting client that the upload was admitted
+    int64_t received = 0;
     while (reader->Read(&request)) {
       if (request.has_header()) throw ServiceError(Kind::kInvalidArgument, "only the first message may carry a header");
+      received += static_cast<int64_t>(request.chunk().size());
+      if (received > header.size_bytes())
+        throw ServiceError(Kind::kInvalidArgument, "more bytes than the header's size_bytes " +
+                                                       std::to_string(header.size_bytes()) + " were sent");
       upload->append(request.chunk());
     }
     if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "upload cancelled by the client");
+    if (received != header.size_bytes())
+      throw ServiceError(Kind::kInvalidArgument, "the upload ended after " + std::to_string(received) +
+                                                     " of the header's size_bytes " +
+                                                     std::to_string(header.size_bytes()) + " bytes");
     const MeshInfo info = upload->commit();
     spdlog::info("[{}] stored mesh {} ({}, {} vertices, {} bytes)", call.request_id, info.digest, info.filename,
                  info.vertex_count, info.size_bytes);
@@ -59,10 +80,9 @@ grpc::Status MeshServiceImpl::ListMeshes(grpc::ServerContext* context, const v1:
                                          v1::ListMeshesResponse* response) {
   return guarded_call("ListMeshes", *context, auth_, [&](const CallInfo&) {
     const std::vector<MeshInfo> meshes = meshes_.list();
-    const Page page = page_of(meshes.size(), request->page_size(), request->page_token());
-    for (size_t i = page.begin; i < page.end; ++i)
-      *response->add_meshes() = mesh_to_proto(meshes[i], cache_.state_of_mesh(meshes[i].digest));
-    response->set_next_page_token(page.next_token);
+    response->set_next_page_token(
+        fill_page(*response->mutable_meshes(), meshes.size(), request->page_size(), request->page_token(),
+                  [&](size_t i) { return mesh_to_proto(meshes[i], cache_.state_of_mesh(meshes[i].digest)); }));
     return grpc::Status::OK;
   });
 }

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "api/auth.h"
+#include "api/upload_budget.h"
 #include "isocorr/v1/isocorr.grpc.pb.h"
 #include "jobs/job_manager.h"
 #include "jobs/shape_cache.h"
@@ -11,8 +12,9 @@ namespace isocorr::server {
 
 class MeshServiceImpl final : public v1::MeshService::Service {
  public:
-  MeshServiceImpl(MeshStore& meshes, ShapeCache& cache, JobManager& jobs, const TokenAuth& auth)
-      : meshes_(meshes), cache_(cache), jobs_(jobs), auth_(auth) {}
+  MeshServiceImpl(MeshStore& meshes, ShapeCache& cache, JobManager& jobs, UploadBudget& upload_budget,
+                  const TokenAuth& auth)
+      : meshes_(meshes), cache_(cache), jobs_(jobs), upload_budget_(upload_budget), auth_(auth) {}
 
   grpc::Status UploadMesh(grpc::ServerContext* context, grpc::ServerReader<v1::UploadMeshRequest>* reader,
                           v1::UploadMeshResponse* response) override;
@@ -28,6 +30,7 @@ class MeshServiceImpl final : public v1::MeshService::Service {
   MeshStore& meshes_;
   ShapeCache& cache_;
   JobManager& jobs_;
+  UploadBudget& upload_budget_;
   const TokenAuth& auth_;
 };
 

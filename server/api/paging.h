@@ -1,35 +1,35 @@
 // AIP-158 pagination over an ordered list: the page token is the index of the next item.
+// A page ends at page_size items or kMaxPageBytes, whichever comes first, so that no list
+// response can outgrow the client's message limit.
 #pragma once
 
 #include <algorithm>
 #include <cstddef>
 #include <string>
 
+#include "api/request_limits.h"
 #include "service_error.h"
 
 namespace isocorr::server {
 
-struct Page {
-  size_t begin = 0, end = 0;
-  std::string next_token;  // empty on the last page
-};
-
-inline Page page_of(size_t count, int page_size, const std::string& token) {
+// Appends `make(i)` for items i = token's index, ... of `count` to `items` (a repeated
+// message field) while the page has room; returns the next page token, empty on the last page.
+template <typename RepeatedField, typename MakeItem>
+std::string fill_page(RepeatedField& items, size_t count, int page_size, const std::string& token, MakeItem make) {
   constexpr int kDefaultPageSize = 100, kMaxPageSize = 1000;
+  constexpr size_t kFieldOverhead = 8;  // tag and length prefix of each item
   if (page_size < 0) throw ServiceError(ServiceError::Kind::kInvalidArgument, "page_size must not be negative");
   const size_t size = page_size == 0 ? kDefaultPageSize : std::min(page_size, kMaxPageSize);
-  Page page;
-  if (!token.empty()) {
-    try {
-      page.begin = std::stoul(token);
-    } catch (const std::exception&) {
-      throw ServiceError(ServiceError::Kind::kInvalidArgument, "invalid page_token '" + token + "'");
-    }
+  const size_t begin = std::min(parse_page_token(token), count);
+  size_t next = begin, bytes = 0;
+  for (; next < count && next - begin < size; ++next) {
+    auto item = make(next);
+    const size_t item_bytes = item.ByteSizeLong() + kFieldOverhead;
+    if (next > begin && bytes + item_bytes > kMaxPageBytes) break;  // one item always fits: its strings are bounded
+    bytes += item_bytes;
+    *items.Add() = std::move(item);
   }
-  page.begin = std::min(page.begin, count);
-  page.end = std::min(count, page.begin + size);
-  if (page.end < count) page.next_token = std::to_string(page.end);
-  return page;
+  return next < count ? std::to_string(next) : std::string();
 }
 
 }  // namespace isocorr::server

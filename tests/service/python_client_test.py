@@ -30,16 +30,20 @@ def generate_stubs(work, proto_paths):
     sys.path.append(work)
 
 
-def main():
+def parse_arguments(*extra):
+    """--server, --work and --proto-path, plus the required `extra` options; stubs generated."""
     parser = argparse.ArgumentParser()
-    parser.add_argument("--server", required=True)
-    parser.add_argument("--mesh", required=True)
-    parser.add_argument("--target", required=True)
-    parser.add_argument("--work", required=True)
+    for option in ("--server", "--work", *extra):
+        parser.add_argument(option, required=True)
     parser.add_argument("--proto-path", action="append", required=True)
     args = parser.parse_args()
     os.makedirs(args.work, exist_ok=True)
     generate_stubs(args.work, args.proto_path)
+    return args
+
+
+def main():
+    args = parse_arguments("--mesh", "--target")
 
     import grpc
     pb = importlib.import_module("isocorr.v1.isocorr_pb2")
@@ -83,8 +87,10 @@ def main():
     check(meshes.UploadMesh(upload(args.target), timeout=60).already_existed, "second upload was not a no-op")
 
     def lying_upload():
-        yield pb.UploadMeshRequest(header=pb.UploadMeshRequest.Header(sha256="0" * 64, filename="x.ply"))
-        yield pb.UploadMeshRequest(chunk=open(args.mesh, "rb").read())
+        data = open(args.mesh, "rb").read()
+        yield pb.UploadMeshRequest(header=pb.UploadMeshRequest.Header(sha256="0" * 64, filename="x.ply",
+                                                                      size_bytes=len(data)))
+        yield pb.UploadMeshRequest(chunk=data)
 
     try:
         meshes.UploadMesh(lying_upload(), timeout=60)
