@@ -49,6 +49,9 @@ int run(const ServerOptions& options) {
   sigaddset(&signals, SIGTERM);
   sigaddset(&signals, SIGINT);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  // A file-size limit (ulimit -f) makes writes fail with EFBIG, reported like a full disk,
+  // instead of killing the server.
+  signal(SIGXFSZ, SIG_IGN);
 
   const TokenAuth auth(options.token_file.empty() ? "" : read_secret(options.token_file, "token file"));
   std::filesystem::create_directories(options.data_dir);

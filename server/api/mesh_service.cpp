@@ -26,7 +26,7 @@ grpc::Status MeshServiceImpl::UploadMesh(grpc::ServerContext* context,
     if (!reader->Read(&request) || !request.has_header())
       throw ServiceError(Kind::kInvalidArgument, "the first UploadMesh message must carry the header");
     const auto& header = request.header();
-    if (auto existing = meshes_.get(header.sha256())) {
+    if (auto existing = meshes_.find_intact(header.sha256())) {  // a corrupted copy is replaced
       // Content-addressed: same digest, same bytes. The rest of the stream is not read.
       *response->mutable_mesh() = mesh_to_proto(*existing, cache_.state_of_mesh(existing->digest));
       response->set_already_existed(true);
