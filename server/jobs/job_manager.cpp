@@ -39,15 +39,19 @@ ErrorCode error_code_for(ServiceError::Kind kind) {
   }
 }
 
-// A job's meshes as recovery finds them: a problem to fail the job with, or empty.
-std::string missing_mesh_problem(MeshStore& meshes, const JobRecord& record) {
+// A job's meshes as recovery finds them: fails `record` when one is gone or corrupted.
+bool fail_if_mesh_missing(MeshStore& meshes, JobRecord& record) {
   try {
-    if (!meshes.describe(record.source_digest) || !meshes.describe(record.target_digest))
-      return "a mesh of this job is no longer on the server";
+    if (meshes.describe(record.source_digest) && meshes.describe(record.target_digest)) return false;
+    record.error_code = ErrorCode::kNotFound;
+    record.error_message = "a mesh of this job is no longer on the server";
   } catch (const ServiceError& e) {
-    return e.what();
+    record.error_code = error_code_for(e.kind());
+    record.error_message = e.what();
   }
-  return {};
+  record.state = JobState::kFailed;
+  record.end_time_ms = now_ms();
+  return true;
 }
 
 }  // namespace
@@ -71,12 +75,7 @@ void JobManager::recover_and_start() {
         record.error_message = "the server stopped " + std::to_string(record.attempts) +
                                " times while running this job (crash, kill or out of memory); not run again";
         record.end_time_ms = now_ms();
-      } else if (const std::string problem = missing_mesh_problem(meshes_, record); !problem.empty()) {
-        record.state = JobState::kFailed;
-        record.error_code = ErrorCode::kNotFound;
-        record.error_message = problem;
-        record.end_time_ms = now_ms();
-      } else {
+      } else if (!fail_if_mesh_missing(meshes_, record)) {
         record.state = JobState::kQueued;
         record.progress = {};
         queue_.push_back(record.id);
