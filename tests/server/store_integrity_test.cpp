@@ -174,6 +174,23 @@ TEST_F(StoreIntegrity, UploadOnFullDiskIsResourceExhaustedWithoutPathsOrLeftover
   EXPECT_TRUE(store.get(sha256_hex(bytes)));
 }
 
+TEST_F(StoreIntegrity, UploadWhoseDescriptionCannotBeWrittenLeavesNoMeshBehind) {
+  const std::string bytes = off_text(icosphere(2));
+  const std::string digest = sha256_hex(bytes);
+  MeshStore store(dir_, 1 << 24);
+  // The description's temporary name taken by a directory: its write fails after the
+  // bytes were moved into place, as on a disk that fills up between the two.
+  fs::create_directories(dir_ / "meshes" / (digest + ".json.tmp"));
+  std::string message;
+  EXPECT_EQ(kind_thrown([&] { upload(store, bytes); }, &message), Kind::kResourceExhausted);
+  EXPECT_EQ(message.find(dir_.string()), std::string::npos) << message;
+  EXPECT_FALSE(fs::exists(dir_ / "meshes" / (digest + ".mesh")));
+  EXPECT_FALSE(store.find_intact(digest));
+  fs::remove(dir_ / "meshes" / (digest + ".json.tmp"));
+  upload(store, bytes);
+  EXPECT_TRUE(store.get(digest));
+}
+
 TEST_F(StoreIntegrity, UnreadableJobRecordBecomesAFailedJobNotAVanishedOne) {
   JobRecord job;
   job.id = "0123456789abcdef";
