@@ -60,6 +60,9 @@ int run(const ServerOptions& options) {
   sigaddset(&signals, SIGTERM);
   sigaddset(&signals, SIGINT);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  // A file-size limit (ulimit -f) makes writes fail with EFBIG, reported like a full disk,
+  // instead of killing the server.
+  signal(SIGXFSZ, SIG_IGN);
 
   if (options.max_upload_bytes_in_flight < options.max_mesh_bytes)
     throw std::runtime_error("--max-upload-bytes-in-flight must be at least --max-mesh-bytes, or no mesh of the "

@@ -9,7 +9,8 @@ namespace isocorr::server {
 
 class ServiceError : public std::runtime_error {
  public:
-  enum class Kind { kInvalidArgument, kNotFound, kResourceExhausted, kFailedPrecondition, kUnavailable };
+  // kDataLoss: a stored object is not what was stored (it has been quarantined).
+  enum class Kind { kInvalidArgument, kNotFound, kResourceExhausted, kFailedPrecondition, kUnavailable, kDataLoss };
   ServiceError(Kind kind, const std::string& message) : std::runtime_error(message), kind_(kind) {}
   Kind kind() const { return kind_; }
 

@@ -34,7 +34,9 @@ UploadOutcome ensure_uploaded(Connection& connection, const std::string& path) {
   get.set_name("meshes/" + digest);
   const grpc::Status found = connection.meshes().GetMesh(connection.context().get(), get, &outcome.mesh);
   if (found.ok()) return outcome;
-  if (found.error_code() != grpc::StatusCode::NOT_FOUND) check_rpc(found, "cannot look up " + path);
+  // DATA_LOSS: the server holds a corrupted copy, which uploading the right bytes repairs.
+  if (found.error_code() != grpc::StatusCode::NOT_FOUND && found.error_code() != grpc::StatusCode::DATA_LOSS)
+    check_rpc(found, "cannot look up " + path);
 
   auto context = connection.context(/*long_call=*/true);
   v1::UploadMeshResponse response;

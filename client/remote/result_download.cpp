@@ -1,5 +1,6 @@
 #include "remote/result_download.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 
@@ -16,6 +17,22 @@ void append_chunk(std::vector<T>& out, const v1::ResultChunk& chunk, const Value
     throw RpcError("download", grpc::Status(grpc::StatusCode::DATA_LOSS, "result chunks arrived out of order"));
   if (out.empty()) out.reserve(static_cast<size_t>(chunk.total()));
   out.insert(out.end(), values.begin(), values.end());
+}
+
+// A map the server sent must have one entry per vertex of its mesh, each a vertex of the
+// other mesh: a corrupted result is refused here rather than written.
+void check_map(const char* what, const std::vector<int>& map, int64_t vertices, int64_t other_vertices) {
+  auto refuse = [&](const std::string& problem) {
+    throw RpcError("download", grpc::Status(grpc::StatusCode::DATA_LOSS,
+                                            std::string("the server sent a corrupted ") + what + " map (" + problem +
+                                                "); nothing written"));
+  };
+  if (static_cast<int64_t>(map.size()) != vertices)
+    refuse(std::to_string(map.size()) + " entries for " + std::to_string(vertices) + " vertices");
+  for (size_t i = 0; i < map.size(); ++i)
+    if (map[i] < 0 || map[i] >= other_vertices)
+      refuse("entry " + std::to_string(i) + " is " + std::to_string(map[i]) + ", outside the other mesh's " +
+             std::to_string(other_vertices) + " vertices");
 }
 
 }  // namespace
@@ -42,6 +59,16 @@ MatchOutput download_result(Connection& connection, const std::string& job_name,
   }
   check_rpc(reader->Finish(), "cannot download the result of " + job_name);
   result.report_json.assign(report.begin(), report.end());
+
+  v1::GetJobRequest get;
+  get.set_name(job_name);
+  v1::Job job;
+  check_rpc(connection.jobs().GetJob(connection.context().get(), get, &job), "cannot read " + job_name);
+  const int64_t sources = job.result().source_vertex_count(), targets = job.result().target_vertex_count();
+  const bool all = parts.empty();
+  auto asked = [&](ResultPart part) { return all || std::find(parts.begin(), parts.end(), part) != parts.end(); };
+  if (asked(ResultPart::kForwardMap)) check_map("forward", result.forward, sources, targets);
+  if (asked(ResultPart::kReverseMap)) check_map("reverse", result.reverse, targets, sources);
   return result;
 }
 

@@ -10,7 +10,8 @@
 namespace isocorr::cli {
 
 // Fetches `parts` (all when empty) into the engine's own result type; parts not asked
-// for stay empty. Throws RpcError.
+// for stay empty. Throws RpcError; DATA_LOSS when a map does not have one entry per vertex
+// or holds an index outside the other mesh (checked against the job's vertex counts).
 MatchOutput download_result(Connection& connection, const std::string& job_name, const std::vector<ResultPart>& parts);
 
 // Text, one value per line in vertex order, as `isocorr match` writes its outputs.

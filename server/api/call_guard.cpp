@@ -17,6 +17,7 @@ grpc::StatusCode code_for(ServiceError::Kind kind) {
     case ServiceError::Kind::kResourceExhausted: return grpc::StatusCode::RESOURCE_EXHAUSTED;
     case ServiceError::Kind::kFailedPrecondition: return grpc::StatusCode::FAILED_PRECONDITION;
     case ServiceError::Kind::kUnavailable: return grpc::StatusCode::UNAVAILABLE;
+    case ServiceError::Kind::kDataLoss: return grpc::StatusCode::DATA_LOSS;
   }
   return grpc::StatusCode::INTERNAL;
 }

@@ -36,7 +36,7 @@ grpc::Status MeshServiceImpl::UploadMesh(grpc::ServerContext* context,
                          "sha256 must be 64 lower-case hex characters, got " + quoted_prefix(header.sha256()));
     require_bounded("filename", header.filename(), kMaxFilenameBytes);
     require_upload_size(header.size_bytes());
-    if (auto existing = meshes_.get(header.sha256())) {
+    if (auto existing = meshes_.find_intact(header.sha256())) {  // a corrupted copy is replaced
       // Content-addressed: same digest, same bytes. The rest of the stream is not read.
       *response->mutable_mesh() = mesh_to_proto(*existing, cache_.state_of_mesh(existing->digest));
       response->set_already_existed(true);

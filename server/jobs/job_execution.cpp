@@ -7,15 +7,17 @@ namespace isocorr::server {
 std::shared_ptr<const PreprocessedShape> CachedShapeProvider::shape(ShapeRole role, const PreprocessOptions& options,
                                                                     const JobControl& control) {
   const std::string& digest = role == ShapeRole::kSource ? job_.source_digest : job_.target_digest;
-  const auto info = meshes_.get(digest);
-  if (!info) throw InputError("mesh meshes/" + digest + " was deleted before the job ran");
+  if (!meshes_.describe(digest)) throw InputError("mesh meshes/" + digest + " was deleted before the job ran");
   JobControl build_control;  // cancellation only: progress belongs to the job that asked
   build_control.cancel_requested = control.cancel_requested;
   const std::string key = digest + "|" + options.key();
   for (;;) {
     try {
       return cache_.get_or_build(key, [&] {
-        const LoadedMesh loaded = parse_mesh(meshes_.read_bytes(digest), info->filename);
+        // Read here, when the cache builds, so the bytes are checked against the digest
+        // (ServiceError kDataLoss) before any shape is made of them.
+        const MeshStore::StoredMesh stored = meshes_.read(digest);
+        const LoadedMesh loaded = parse_mesh(stored.bytes, stored.info.filename);
         return PreprocessedShape::build(loaded.mesh, options, build_control);
       });
     } catch (const Cancelled&) {

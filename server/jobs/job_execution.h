@@ -25,7 +25,8 @@ class CachedShapeProvider : public ShapeProvider {
 };
 
 // Throws InputError (unusable mesh or settings, or a mesh deleted before the job ran),
-// Cancelled (control's flag), or anything else for internal failures.
+// Cancelled (control's flag), ServiceError(kDataLoss) for a corrupted stored mesh, or
+// anything else for internal failures.
 MatchResult execute_match_job(const JobRecord& job, MeshStore& meshes, ShapeCache& cache, const JobControl& control);
 
 }  // namespace isocorr::server

@@ -24,6 +24,36 @@ std::string new_job_id() {
   return id;
 }
 
+// A queued job whose start cannot be recorded (full disk) is tried again this often, and
+// shows this stage meanwhile.
+constexpr auto kDiskRetryInterval = std::chrono::seconds(2);
+constexpr const char* kWaitingForDisk = "waiting for disk space";
+
+ErrorCode error_code_for(ServiceError::Kind kind) {
+  switch (kind) {
+    case Kind::kDataLoss: return ErrorCode::kDataLoss;
+    case Kind::kResourceExhausted: return ErrorCode::kResourceExhausted;
+    case Kind::kNotFound: return ErrorCode::kNotFound;
+    case Kind::kInvalidArgument: return ErrorCode::kInvalidArgument;
+    default: return ErrorCode::kInternal;
+  }
+}
+
+// A job's meshes as recovery finds them: fails `record` when one is gone or corrupted.
+bool fail_if_mesh_missing(MeshStore& meshes, JobRecord& record) {
+  try {
+    if (meshes.describe(record.source_digest) && meshes.describe(record.target_digest)) return false;
+    record.error_code = ErrorCode::kNotFound;
+    record.error_message = "a mesh of this job is no longer on the server";
+  } catch (const ServiceError& e) {
+    record.error_code = error_code_for(e.kind());
+    record.error_message = e.what();
+  }
+  record.state = JobState::kFailed;
+  record.end_time_ms = now_ms();
+  return true;
+}
+
 }  // namespace
 
 JobManager::JobManager(JobManagerOptions options, MeshStore& meshes, JobJournal& journal, ShapeCache& cache)
@@ -45,17 +75,16 @@ void JobManager::recover_and_start() {
         record.error_message = "the server stopped " + std::to_string(record.attempts) +
                                " times while running this job (crash, kill or out of memory); not run again";
         record.end_time_ms = now_ms();
-      } else if (!meshes_.get(record.source_digest) || !meshes_.get(record.target_digest)) {
-        record.state = JobState::kFailed;
-        record.error_code = ErrorCode::kNotFound;
-        record.error_message = "a mesh of this job is no longer on the server";
-        record.end_time_ms = now_ms();
-      } else {
+      } else if (!fail_if_mesh_missing(meshes_, record)) {
         record.state = JobState::kQueued;
         record.progress = {};
         queue_.push_back(record.id);
       }
-      journal_.save(record);
+      try {
+        journal_.save(record);
+      } catch (const std::exception& e) {  // full disk: the journal keeps the old state, re-read next start
+        spdlog::error("[job {}] cannot write its journal record: {}", record.id, e.what());
+      }
       spdlog::info("[job {}] recovered: {}{}", record.id, job_state_name(record.state),
                    was_running ? " (was running when the server stopped)" : "");
     }
@@ -88,7 +117,7 @@ JobRecord JobManager::create(const std::string& source_digest, const std::string
     throw ServiceError(Kind::kInvalidArgument, std::string("settings: ") + e.what());
   }
   for (const std::string* digest : {&source_digest, &target_digest})
-    if (!meshes_.get(*digest))
+    if (!meshes_.describe(*digest))
       throw ServiceError(Kind::kNotFound, "no mesh meshes/" + *digest + " on this server; upload it first");
 
   std::lock_guard lock(mutex_);
@@ -147,18 +176,18 @@ JobRecord JobManager::cancel(const std::string& id) {
   if (is_final(record.state))
     throw ServiceError(Kind::kFailedPrecondition,
                        "job jobs/" + id + " is already " + job_state_name(record.state) + "; nothing to cancel");
-  slot.cancel_requested = true;
   if (record.state == JobState::kQueued) {
-    queue_.erase(std::remove(queue_.begin(), queue_.end(), id), queue_.end());
     JobRecord cancelled = record;
     cancelled.state = JobState::kCancelled;
     cancelled.error_code = ErrorCode::kCancelled;
     cancelled.error_message = "cancelled before it started";
     cancelled.end_time_ms = now_ms();
-    journal_.save(cancelled);
+    journal_.save(cancelled);  // throws on a full disk, leaving the job queued as it was
+    queue_.erase(std::remove(queue_.begin(), queue_.end(), id), queue_.end());
     record = cancelled;
     publish_locked(slot);
   }
+  slot.cancel_requested = true;
   spdlog::info("[job {}] cancel requested", id);
   return record;
 }
@@ -190,7 +219,6 @@ void JobManager::worker_loop() {
       work_available_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
       if (stopping_) return;
       slot = jobs_.at(queue_.front()).get();
-      queue_.pop_front();
       JobRecord running = slot->record;
       running.state = JobState::kRunning;
       running.attempts += 1;
@@ -199,10 +227,18 @@ void JobManager::worker_loop() {
       try {
         journal_.save(running);  // a crash from here on counts as an attempt
       } catch (const std::exception& e) {
-        // Cannot record the start (disk full?): leave the job queued for the next start.
-        spdlog::error("[job {}] cannot write its journal record: {}", running.id, e.what());
+        // Cannot record the start (full disk): the job stays first in the queue, shows why,
+        // and is tried again shortly, so it runs once space returns.
+        if (slot->record.progress.stage != kWaitingForDisk) {
+          spdlog::error("[job {}] cannot record its start, retrying every {} s: {}", running.id,
+                        kDiskRetryInterval.count(), e.what());
+          slot->record.progress.stage = kWaitingForDisk;
+          publish_locked(*slot);
+        }
+        work_available_.wait_for(lock, kDiskRetryInterval, [&] { return stopping_; });
         continue;
       }
+      queue_.pop_front();
       slot->record = running;
       publish_locked(*slot);
     }
@@ -229,7 +265,11 @@ void JobManager::run(Slot& slot) {
   JobRecord final_record = job;
   try {
     const MatchResult result = execute_match_job(job, meshes_, cache_, control);
-    journal_.save_result(job.id, result.output);
+    try {
+      journal_.save_result(job.id, result.output);
+    } catch (const ServiceError& e) {
+      throw ServiceError(e.kind(), std::string("cannot store the result: ") + e.what());
+    }
     final_record.state = JobState::kSucceeded;
     final_record.summary = result.summary();
     final_record.progress = {"done", 0, 0, 1.0};
@@ -242,7 +282,11 @@ void JobManager::run(Slot& slot) {
       requeued.state = JobState::kQueued;
       requeued.attempts -= 1;
       requeued.progress = {};
-      journal_.save(requeued);
+      try {
+        journal_.save(requeued);
+      } catch (const std::exception& e) {  // the journal says RUNNING: the next start counts it
+        spdlog::error("[job {}] cannot write its journal record: {}", job.id, e.what());
+      }
       slot.record = requeued;
       publish_locked(slot);
       spdlog::info("[job {}] interrupted by shutdown; queued again for the next start", job.id);
@@ -258,6 +302,11 @@ void JobManager::run(Slot& slot) {
     final_record.error_code = ErrorCode::kInvalidArgument;
     final_record.error_message = e.what();
     spdlog::warn("[job {}] failed: {}", job.id, e.what());
+  } catch (const ServiceError& e) {  // a corrupted mesh (DATA_LOSS), a full disk
+    final_record.state = JobState::kFailed;
+    final_record.error_code = error_code_for(e.kind());
+    final_record.error_message = e.what();
+    spdlog::error("[job {}] failed: {}", job.id, e.what());
   } catch (const std::exception& e) {
     final_record.state = JobState::kFailed;
     final_record.error_code = ErrorCode::kInternal;
@@ -274,10 +323,19 @@ void JobManager::finish(Slot& slot, JobRecord final_record) {
   try {
     journal_.save(final_record);  // durable before anyone can see it done
   } catch (const std::exception& e) {
-    // Not durable, so not reported as done: the job stays RUNNING in the journal and runs
-    // again after a restart.
+    // Not durable: the journal still says RUNNING, so the job runs again after a restart.
+    // Until then it ends here with the reason rather than staying RUNNING; a result that
+    // cannot be recorded is not reported as a success.
     spdlog::error("[job {}] cannot write its journal record: {}", final_record.id, e.what());
-    return;
+    const std::string not_recorded =
+        std::string("its end could not be recorded (") + e.what() + "); it runs again when the server restarts";
+    if (final_record.state == JobState::kSucceeded) {
+      final_record.state = JobState::kFailed;
+      final_record.error_code = ErrorCode::kResourceExhausted;
+      final_record.error_message = "the job finished but " + not_recorded;
+    } else {
+      final_record.error_message += "; " + not_recorded;
+    }
   }
   slot.record = std::move(final_record);
   publish_locked(slot);

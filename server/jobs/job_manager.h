@@ -5,6 +5,12 @@
 // RUNNING one was interrupted by a crash or kill) until a job has been started
 // `max_attempts` times, then it is marked FAILED with the reason. A graceful shutdown
 // puts running jobs back to QUEUED without counting the attempt.
+//
+// Full disk: a queued job whose start cannot be recorded stays QUEUED (stage "waiting for
+// disk space") and is tried again every few seconds; a job whose result or final record
+// cannot be written ends FAILED with RESOURCE_EXHAUSTED and the reason (when even that
+// cannot be recorded, it runs again after a restart). A corrupted stored mesh fails its
+// job with DATA_LOSS. No job stays RUNNING or QUEUED for want of disk space once it returns.
 #pragma once
 
 #include <atomic>

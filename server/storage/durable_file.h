@@ -8,6 +8,8 @@
 
 namespace isocorr::server {
 
+// Both throw ServiceError(kResourceExhausted) without the path (storage_failure.h) and leave
+// no temporary file behind.
 void write_file_durably(const std::filesystem::path& path, const std::string& content);
 // fsync of one file or directory (makes a rename or a new entry durable).
 void fsync_path(const std::filesystem::path& path);

@@ -16,7 +16,10 @@ const char* job_state_name(JobState state);
 bool is_final(JobState state);
 
 // google.rpc.Code values used for job errors (stable numbers, shared with gRPC).
-enum class ErrorCode : int { kCancelled = 1, kInvalidArgument = 3, kNotFound = 5, kAborted = 10, kInternal = 13 };
+enum class ErrorCode : int {
+  kCancelled = 1, kInvalidArgument = 3, kNotFound = 5, kResourceExhausted = 8, kAborted = 10, kInternal = 13,
+  kDataLoss = 15
+};
 
 struct JobProgressInfo {
   std::string stage = "queued";

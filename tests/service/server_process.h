@@ -33,6 +33,7 @@ class ServerProcess {
 
   std::string address() const { return "127.0.0.1:" + std::to_string(port_); }
   bool running() const { return pid_ > 0; }
+  pid_t pid() const { return pid_; }  // for prlimit and the like
   const std::filesystem::path& log_path() const { return log_; }
   // The client with --server set, then `arguments`.
   CommandRun client(const std::string& arguments) const;

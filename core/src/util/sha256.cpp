@@ -35,6 +35,12 @@ std::string Sha256::hex_digest() {
   return text;
 }
 
+std::string sha256_hex(std::string_view bytes) {
+  Sha256 hasher;
+  hasher.update(bytes);
+  return hasher.hex_digest();
+}
+
 bool is_sha256_hex(std::string_view text) {
   if (text.size() != 64) return false;
   for (char c : text)

@@ -24,6 +24,9 @@ class Sha256 {
   std::unique_ptr<State> state_;
 };
 
+// The lower-case hex digest of `bytes` in one call.
+std::string sha256_hex(std::string_view bytes);
+
 // True for 64 lower-case hex characters.
 bool is_sha256_hex(std::string_view text);
 
