@@ -3,6 +3,7 @@
 #include "isocorr/spectral/laplace_beltrami.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <vector>
 
@@ -154,6 +155,19 @@ TEST(LaplaceBeltrami, BadInputIsAnInputError) {
   no_restarts.max_restarts = 0;
   no_restarts.tolerance = 1e-300;
   EXPECT_THROW(compute_laplace_basis(icosphere(3), 30, no_restarts), InputError);
+}
+
+// A cancelled job must not wait for the eigensolver (minutes on a large mesh): it stops at
+// its next linear solve.
+TEST(LaplaceBeltrami, CancelledJobStopsTheSolver) {
+  const std::atomic<bool> cancel{true};
+  JobControl control;
+  control.cancel_requested = &cancel;
+  LaplaceBasisOptions options;
+  options.control = &control;
+  EXPECT_THROW(compute_laplace_basis(icosphere(3), 20, options), Cancelled);
+  options.control = nullptr;
+  EXPECT_EQ(compute_laplace_basis(icosphere(3), 20, options).eigenvalues.size(), 20);
 }
 
 }  // namespace

@@ -1,10 +1,13 @@
 // Evenly spaced salient sampling: spacing holds at every step and samples follow saliency.
 #include "isocorr/sampling/salient_sampling.h"
 
+#include <atomic>
+
 #include <gtest/gtest.h>
 
 #include "isocorr/mesh/procedural_meshes.h"
 #include "isocorr/sampling/saliency.h"
+#include "isocorr/util/error.h"
 
 namespace isocorr {
 namespace {
@@ -44,6 +47,16 @@ TEST(Saliency, ExtremitiesAreTheLimbTips) {
   ASSERT_GE(saliency.extremities.size(), 5u);
   for (int i = 0; i < 5; ++i) EXPECT_GT(blob.vertices[saliency.extremities[i]].norm(), 1.2);  // body radius <= 1
   EXPECT_EQ(saliency.order.size(), static_cast<size_t>(blob.num_vertices()));
+}
+
+TEST(Saliency, CancelledJobStopsBetweenFields) {
+  const TriangleMesh blob = limbed_blob(3);
+  const MeshTopology topology(blob);
+  const FastMarching fmm(blob, topology);
+  const std::atomic<bool> cancel{true};
+  JobControl control;
+  control.cancel_requested = &cancel;
+  EXPECT_THROW(compute_saliency(fmm, SaliencyOptions{}, 2, control), Cancelled);
 }
 
 }  // namespace

@@ -18,7 +18,7 @@ int argmax(const std::vector<float>& values) {
 }  // namespace
 
 Saliency compute_saliency(const FastMarching& geodesics, const SaliencyOptions& options,
-                          int threads) {
+                          int threads, const JobControl& control) {
   const TriangleMesh& mesh = geodesics.mesh();
   const int n = mesh.num_vertices();
   Saliency result;
@@ -33,6 +33,7 @@ Saliency compute_saliency(const FastMarching& geodesics, const SaliencyOptions& 
   const int sources = std::max(1, std::min(options.agd_sources, n));
   double diameter = 0;
   for (int i = 0; i < sources; ++i) {
+    control.check_cancelled();
     geodesics.compute({source}, ws);
     for (int v = 0; v < n; ++v) {
       const float d = ws.distance[v];
@@ -62,6 +63,7 @@ Saliency compute_saliency(const FastMarching& geodesics, const SaliencyOptions& 
   const int workers = resolve_thread_count(threads);
   std::vector<FastMarching::Workspace> workspaces(workers);
   parallel_for(static_cast<int>(ring_maxima.size()), workers, [&](int i, int worker) {
+    control.check_cancelled();
     const int v = ring_maxima[i];
     auto& w = workspaces[worker];
     geodesics.compute({v}, w, radius);

@@ -38,15 +38,19 @@ std::shared_ptr<const PreprocessedShape> PreprocessedShape::build(const Triangle
   const int threads = resolve_thread_count(options.threads);
   // The eigensolver is sequential; with two or more threads it runs beside the geodesic
   // work below instead of after it (michael0, 52K vertices: 13.6 s -> see the commit).
-  auto compute_basis = [&mesh, &options] {
+  // It checks `control` too: a cancelled job must not wait for it (the future's
+  // destructor joins it when the geodesic work below throws Cancelled).
+  auto compute_basis = [&mesh, &options, &control] {
+    LaplaceBasisOptions solver;
+    solver.control = &control;
     return options.spectral_cells > 0
-               ? compute_reduced_laplace_basis(mesh, options.spectral_basis, options.spectral_cells)
-               : compute_laplace_basis(mesh, options.spectral_basis);
+               ? compute_reduced_laplace_basis(mesh, options.spectral_basis, options.spectral_cells, solver)
+               : compute_laplace_basis(mesh, options.spectral_basis, solver);
   };
   std::future<LaplaceBasis> basis;
   if (options.spectral_basis > 0)
     basis = std::async(threads > 1 ? std::launch::async : std::launch::deferred, compute_basis);
-  shape->saliency_ = compute_saliency(*shape->geodesics_, options.saliency, threads);
+  shape->saliency_ = compute_saliency(*shape->geodesics_, options.saliency, threads, control);
   control.check_cancelled();
 
   SamplingSchedule schedule;

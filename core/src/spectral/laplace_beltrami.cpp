@@ -36,8 +36,8 @@ class ShiftedCholeskySolve {
  public:
   using Scalar = double;
 
-  ShiftedCholeskySolve(const SparseMatrix& stiffness, const SparseMatrix& mass)
-      : stiffness_(stiffness), mass_(mass) {}
+  ShiftedCholeskySolve(const SparseMatrix& stiffness, const SparseMatrix& mass, const JobControl* control)
+      : stiffness_(stiffness), mass_(mass), control_(control) {}
 
   Eigen::Index rows() const { return stiffness_.rows(); }
   Eigen::Index cols() const { return stiffness_.cols(); }
@@ -60,6 +60,7 @@ class ShiftedCholeskySolve {
   }
 
   void perform_op(const double* x_in, double* y_out) const {
+    if (control_) control_->check_cancelled();
     Eigen::Map<const Eigen::VectorXd> x(x_in, rows());
     Eigen::Map<Eigen::VectorXd> y(y_out, rows());
     if (found_.cols() == 0) {
@@ -75,6 +76,7 @@ class ShiftedCholeskySolve {
  private:
   const SparseMatrix& stiffness_;
   const SparseMatrix& mass_;
+  const JobControl* control_;
   Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> factor_;
   bool factored_ = false;
   double sigma_ = 0;
@@ -204,7 +206,7 @@ LaplaceBasis laplace_eigenpairs(const Eigen::SparseMatrix<double>& stiffness, co
   }
   const double sigma = -options.relative_shift * stiffness.diagonal().sum() / basis.mass.sum();
 
-  ShiftedCholeskySolve shifted_inverse(stiffness, mass);
+  ShiftedCholeskySolve shifted_inverse(stiffness, mass, options.control);
   Eigenpairs pairs = lanczos(shifted_inverse, mass, k, sigma, options);
   // Single-vector Lanczos finds one vector per eigenspace in exact arithmetic; the other
   // copies of a multiple eigenvalue only appear through round-off, and Spectra may report

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "isocorr/geodesic/fast_marching.h"
+#include "isocorr/util/progress.h"
 
 namespace isocorr {
 
@@ -27,7 +28,8 @@ struct Saliency {
 
 // Computes AGD from farthest-point fields, the diameter estimate, extremities and the
 // saliency order. Deterministic for a given mesh.
+// `control` is checked between fields.
 Saliency compute_saliency(const FastMarching& geodesics, const SaliencyOptions& options,
-                          int threads);
+                          int threads, const JobControl& control = {});
 
 }  // namespace isocorr
