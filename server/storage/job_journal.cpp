@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstring>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "isocorr/settings/settings_json.h"
@@ -115,6 +116,43 @@ JobJournal::JobJournal(const fs::path& data_dir)
   for (const fs::path& dir : {results_dir_, jobs_dir_})
     for (const auto& entry : fs::directory_iterator(dir))
       if (entry.path().extension() == ".tmp") fs::remove_all(entry.path());
+  adopt_results_without_manifest();
+}
+
+void JobJournal::adopt_results_without_manifest() {
+  for (const auto& entry : fs::directory_iterator(results_dir_)) {
+    const fs::path dir = entry.path();
+    if (!entry.is_directory() || fs::exists(dir / kManifestFile)) continue;
+    const std::string id = dir.filename().string();
+    try {
+      std::map<ResultPart, std::string> bytes;
+      for (const ResultPart part : {ResultPart::kForwardMap, ResultPart::kReverseMap, ResultPart::kForwardConfidence,
+                                    ResultPart::kReverseConfidence, ResultPart::kReport})
+        bytes[part] = read_whole_file(dir / part_file(part));
+      const std::vector<int> forward = from_bytes<int>(bytes[ResultPart::kForwardMap]);
+      const std::vector<int> reverse = from_bytes<int>(bytes[ResultPart::kReverseMap]);
+      // Without digests only the structure can be checked: whole int32/float32 arrays, one
+      // confidence per map entry, every index inside the other map's length.
+      bool whole = forward.size() * sizeof(int) == bytes[ResultPart::kForwardMap].size() &&
+                   reverse.size() * sizeof(int) == bytes[ResultPart::kReverseMap].size() &&
+                   bytes[ResultPart::kForwardConfidence].size() == forward.size() * sizeof(float) &&
+                   bytes[ResultPart::kReverseConfidence].size() == reverse.size() * sizeof(float);
+      for (const int index : forward) whole = whole && index >= 0 && index < static_cast<int64_t>(reverse.size());
+      for (const int index : reverse) whole = whole && index >= 0 && index < static_cast<int64_t>(forward.size());
+      if (!whole) throw std::runtime_error("its parts do not fit together");
+      json parts = json::object();
+      for (const auto& [part, content] : bytes)
+        parts[std::string(result_part_name(part))] = {{"bytes", content.size()}, {"sha256", sha256_hex(content)}};
+      write_file_durably(dir / kManifestFile, seal_json({{"source_vertices", forward.size()},
+                                                         {"target_vertices", reverse.size()},
+                                                         {"parts", parts}}));
+      spdlog::info("[job {}] result stored before manifests existed: structure checked, manifest written", id);
+    } catch (const ServiceError&) {
+      throw;  // the disk is full: leave the result as it is for the next start
+    } catch (const std::exception& e) {
+      quarantine_.set_aside("results", dir, std::string("result without manifest: ") + e.what());
+    }
+  }
 }
 
 void JobJournal::save(const JobRecord& job) {

@@ -40,6 +40,10 @@ class JobJournal {
  private:
   // The part's bytes after the checks above.
   std::string read_checked_part(const std::string& id, ResultPart part) const;
+  // Results written before manifests existed (their directory has none): the parts'
+  // structure is checked once at start and a manifest written; a result that fails is
+  // set aside in quarantine/results/ (its job then answers DATA_LOSS on download).
+  void adopt_results_without_manifest();
   [[noreturn]] void result_lost(const std::string& id, const std::string& problem) const;
   JobRecord record_of_unreadable(const std::filesystem::path& path, const std::string& problem);
 

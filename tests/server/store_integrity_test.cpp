@@ -242,6 +242,28 @@ TEST_F(StoreIntegrity, TruncatedResultPartIsDataLoss) {
   EXPECT_NE(message.find("6 bytes, not 12"), std::string::npos) << message;
 }
 
+TEST_F(StoreIntegrity, ResultsFromBeforeManifestsAreAdoptedWhenWholeAndSetAsideWhenNot) {
+  const std::string whole = "00000000000000cc", broken = "00000000000000dd";
+  {
+    JobJournal journal(dir_);
+    journal.save_result(whole, small_result());
+    journal.save_result(broken, small_result());
+  }
+  fs::remove(dir_ / "results" / whole / "manifest.json");
+  fs::remove(dir_ / "results" / broken / "manifest.json");
+  std::string forward = read_whole_file(dir_ / "results" / broken / "forward.i32");
+  const int outside = 3;  // the reverse map has 3 entries: index 3 is outside the target
+  std::memcpy(forward.data(), &outside, sizeof outside);
+  std::ofstream(dir_ / "results" / broken / "forward.i32", std::ios::binary) << forward;
+
+  JobJournal journal(dir_);  // a restart of a server written before manifests
+  EXPECT_EQ(journal.read_map(whole, ResultPart::kForwardMap), small_result().forward);
+  EXPECT_EQ(journal.read_report(whole), small_result().report_json);
+  EXPECT_TRUE(fs::exists(dir_ / "results" / whole / "manifest.json"));
+  EXPECT_EQ(kind_thrown([&] { journal.read_map(broken, ResultPart::kForwardMap); }), Kind::kDataLoss);
+  EXPECT_TRUE(fs::exists(dir_ / "quarantine" / "results" / broken / "forward.i32"));
+}
+
 TEST_F(StoreIntegrity, ResultOnFullDiskIsResourceExhaustedAndLeavesNoTemporaryDirectory) {
   const std::string id = "00000000000000cc";
   MatchOutput big = small_result();
