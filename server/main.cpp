@@ -102,7 +102,7 @@ int run(const ServerOptions& options) {
                options.data_dir, options.threads);
   // Absolute, so that a bare file name has a directory to sync.
   if (!options.port_file.empty())
-    write_file_durably(std::filesystem::absolute(options.port_file), std::to_string(port) + "\n");
+    write_file_durably(options.port_file, std::to_string(port) + "\n");
 
   int signal_number = 0;
   sigwait(&signals, &signal_number);

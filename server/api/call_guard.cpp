@@ -39,7 +39,10 @@ grpc::Status guarded_call(const char* method, grpc::ServerContext& context, cons
       status = grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, e.what());
     } catch (const std::exception& e) {
       spdlog::error("[{}] {} internal error: {}", call.request_id, method, e.what());
-      status = grpc::Status(grpc::StatusCode::INTERNAL, std::string("internal error: ") + e.what());
+      // The text may name server files: it stays in the log, the caller gets the request id.
+      std::string message = "internal error (request ";
+      message.append(call.request_id).append("; the server log has the details)");
+      status = grpc::Status(grpc::StatusCode::INTERNAL, message);
     }
   }
   if (status.ok())

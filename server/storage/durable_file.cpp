@@ -50,7 +50,7 @@ void write_file_durably(const std::filesystem::path& path, const std::string& co
     if (::fsync(file.fd) != 0) fail("cannot fsync");
   }
   if (::rename(temp.c_str(), path.c_str()) != 0) fail("cannot rename into place");
-  fsync_path(path.parent_path());
+  fsync_path(path.has_parent_path() ? path.parent_path() : std::filesystem::path("."));  // a bare name is in the working directory
 }
 
 std::string read_whole_file(const std::filesystem::path& path) {
