@@ -7,10 +7,10 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "isocorr/settings/settings_json.h"
 #include "isocorr/util/sha256.h"
 #include "service_error.h"
 #include "storage/durable_file.h"
+#include "storage/job_record_json.h"
 #include "storage/sealed_json.h"
 #include "storage/storage_failure.h"
 
@@ -26,67 +26,6 @@ std::string part_file(ResultPart part) {
                           : part == ResultPart::kForwardMap || part == ResultPart::kReverseMap ? ".i32"
                                                                                                  : ".f32";
   return std::string(result_part_name(part)) + extension;
-}
-
-JobState state_from_name(const std::string& name) {
-  for (JobState s : {JobState::kQueued, JobState::kRunning, JobState::kSucceeded, JobState::kFailed, JobState::kCancelled})
-    if (name == job_state_name(s)) return s;
-  throw std::runtime_error("unknown job state '" + name + "'");
-}
-
-json record_to_json(const JobRecord& job) {
-  json timings = json::array();
-  for (const auto& t : job.summary.timings) timings.push_back({{"stage", t.stage}, {"seconds", t.seconds}});
-  return {{"id", job.id},
-          {"state", job_state_name(job.state)},
-          {"source", job.source_digest},
-          {"target", job.target_digest},
-          {"settings", settings_to_json(job.settings)},
-          {"create_time_ms", job.create_time_ms},
-          {"start_time_ms", job.start_time_ms},
-          {"end_time_ms", job.end_time_ms},
-          {"attempts", job.attempts},
-          {"error_code", static_cast<int>(job.error_code)},
-          {"error_message", job.error_message},
-          {"summary",
-           {{"source_vertices", job.summary.source_vertices},
-            {"target_vertices", job.summary.target_vertices},
-            {"diso", job.summary.diso},
-            {"diso_max", job.summary.diso_max},
-            {"dense_orientation", job.summary.dense_orientation},
-            {"level0_maps", job.summary.level0_maps},
-            {"tracked_maps", job.summary.tracked_maps},
-            {"chosen_level0_rank", job.summary.chosen_level0_rank},
-            {"timings", timings},
-            {"notes", job.summary.notes}}}};
-}
-
-JobRecord record_from_json(const json& j) {
-  JobRecord job;
-  job.id = j.at("id");
-  job.state = state_from_name(j.at("state"));
-  job.source_digest = j.at("source");
-  job.target_digest = j.at("target");
-  job.settings = settings_from_json(j.at("settings"));
-  job.create_time_ms = j.at("create_time_ms");
-  job.start_time_ms = j.at("start_time_ms");
-  job.end_time_ms = j.at("end_time_ms");
-  job.attempts = j.at("attempts");
-  job.error_code = static_cast<ErrorCode>(j.at("error_code").get<int>());
-  job.error_message = j.at("error_message");
-  const json& s = j.at("summary");
-  job.summary.source_vertices = s.at("source_vertices");
-  job.summary.target_vertices = s.at("target_vertices");
-  job.summary.diso = s.at("diso");
-  job.summary.diso_max = s.at("diso_max");
-  job.summary.dense_orientation = s.at("dense_orientation");
-  job.summary.level0_maps = s.at("level0_maps");
-  job.summary.tracked_maps = s.at("tracked_maps");
-  job.summary.chosen_level0_rank = s.at("chosen_level0_rank");
-  for (const auto& t : s.at("timings")) job.summary.timings.push_back({t.at("stage"), t.at("seconds")});
-  job.summary.notes = s.at("notes").get<std::vector<std::string>>();
-  if (job.state == JobState::kSucceeded) job.progress = {"done", 0, 0, 1.0};
-  return job;
 }
 
 template <typename T>

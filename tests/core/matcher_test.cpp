@@ -71,14 +71,15 @@ TEST_F(MatcherOnBlob, ResultDoesNotDependOnThreadCount) {
 TEST_F(MatcherOnBlob, ReportsProgressAndHonoursCancellation) {
   std::atomic<bool> cancel{false};
   JobControl control;
-  int reports = 0;
+  // Atomic: the tracking stage reports from its worker threads (a plain int raced, TSan).
+  std::atomic<int> reports{0};
   control.on_progress = [&](const Progress& p) {
     ++reports;
     if (p.stage == "tracking") cancel = true;
   };
   control.cancel_requested = &cancel;
   EXPECT_THROW(match_meshes(*blob_, copy_->mesh, MatchSettings{}, control), Cancelled);
-  EXPECT_GT(reports, 2);
+  EXPECT_GT(reports.load(), 2);
 }
 
 TEST(MatcherSettings, OutOfRangeSettingsAreInputErrors) {

@@ -75,6 +75,15 @@ TEST(SettingsSchema, JsonRoundTripIsExactAndOldRecordsKeepDefaults) {
   EXPECT_THROW(settings_from_json({{"min_tracked", "many"}}), InputError);
 }
 
+// Found by fuzz/settings_json_fuzzer.cpp: an integer wider than 32 bits was converted to
+// the int member (undefined behaviour; UBSan stops the sanitizer build's run on it).
+TEST(SettingsSchema, JsonIntegersBeyond32BitsAreRejected) {
+  for (const char* bytes : {R"({"max_tracked": 99999999999})", R"({"min_tracked": -2147483649})",
+                            R"({"max_level0_maps": 18446744073709551615})"})
+    EXPECT_THROW(settings_from_json(nlohmann::json::parse(bytes)), InputError) << bytes;
+  EXPECT_EQ(settings_from_json(nlohmann::json::parse(R"({"max_tracked": 2147483647})")).max_tracked, 2147483647);
+}
+
 TEST(SettingsSchema, ValidationNamesTheFieldOutOfRange) {
   for (const SettingField& field : settings_schema()) {
     if (field.type == SettingType::kBool || field.type == SettingType::kChoice) continue;

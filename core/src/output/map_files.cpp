@@ -110,7 +110,10 @@ std::vector<int> read_map(const std::string& path) {
   std::ostringstream contents;
   contents << in.rdbuf();
   if (in.bad()) throw InputError("cannot read map file " + path + ": read error");
-  const std::string bytes = contents.str();
+  return parse_map(contents.str(), path);
+}
+
+std::vector<int> parse_map(const std::string& bytes, const std::string& path) {
   if (bytes.starts_with(kBinaryMagic)) return parse_binary_map(bytes, path);
   // No text map starts with a letter: this is a binary map cut inside its magic, or one of
   // a version this reader does not know.

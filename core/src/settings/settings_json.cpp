@@ -1,5 +1,7 @@
 #include "isocorr/settings/settings_json.h"
 
+#include <limits>
+
 #include "isocorr/settings/settings_schema.h"
 #include "isocorr/util/error.h"
 
@@ -30,6 +32,10 @@ MatchSettings settings_from_json(const nlohmann::json& json) {
                       : field.type == SettingType::kInt    ? it->is_number_integer()
                                                            : it->is_number();
     if (!fits) throw InputError("setting " + std::string(field.name) + " has the wrong JSON type");
+    // The members are 32-bit ints: a wider JSON integer would not convert (found by fuzzing).
+    if (field.type == SettingType::kInt &&
+        !(it->get<double>() >= std::numeric_limits<int>::min() && it->get<double>() <= std::numeric_limits<int>::max()))
+      throw InputError("setting " + std::string(field.name) + " is not an integer within 32 bits");
     if (field.type == SettingType::kBool) field.set(settings, it->get<bool>() ? 1 : 0);
     else if (field.type == SettingType::kChoice) field.parse(settings, it->get<std::string>());
     else field.set(settings, it->get<double>());

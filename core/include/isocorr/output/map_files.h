@@ -18,5 +18,7 @@ void write_map(const std::string& path, const std::vector<int>& map);
 // the file and the problem: a truncated binary map, a count that disagrees with the data,
 // a text line that is not one integer, a negative index.
 std::vector<int> read_map(const std::string& path);
+// The same for a map already in memory; `name` stands for the file in messages.
+std::vector<int> parse_map(const std::string& bytes, const std::string& name);
 
 }  // namespace isocorr

@@ -18,7 +18,7 @@ struct Progress {
 
 // Passed down by the caller (CLI, service). Both members are optional.
 struct JobControl {
-  std::function<void(const Progress&)> on_progress;
+  std::function<void(const Progress&)> on_progress;  // may run on several threads at once
   const std::atomic<bool>* cancel_requested = nullptr;
 
   void report(const Progress& progress) const {

@@ -1,0 +1,16 @@
+// Map files as `isocorr eval` reads them: ICMAP1 binary or one index per line.
+#include <cstdint>
+#include <string>
+
+#include "fuzz_checks.h"
+#include "isocorr/output/map_files.h"
+#include "isocorr/util/error.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string bytes(reinterpret_cast<const char*>(data), size);
+  try {
+    for (int index : isocorr::parse_map(bytes, "fuzz.map")) ISOCORR_FUZZ_CHECK(index >= 0);
+  } catch (const isocorr::InputError&) {
+  }
+  return 0;
+}
