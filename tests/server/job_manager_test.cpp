@@ -15,21 +15,13 @@
 
 #include "isocorr/mesh/procedural_meshes.h"
 #include "isocorr/util/sha256.h"
+#include "off_text.h"
 
 namespace isocorr::server {
 namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
-
-std::string off_bytes(const TriangleMesh& mesh) {
-  std::ostringstream out;
-  out.precision(17);
-  out << "OFF\n" << mesh.num_vertices() << ' ' << mesh.num_faces() << " 0\n";
-  for (const Vec3& p : mesh.vertices) out << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
-  for (const Face& f : mesh.faces) out << "3 " << f[0] << ' ' << f[1] << ' ' << f[2] << '\n';
-  return out.str();
-}
 
 std::string upload(MeshStore& store, const std::string& bytes, const std::string& filename) {
   Sha256 hasher;
@@ -55,9 +47,9 @@ TEST_F(JobManagerTest, ConcurrentCallersAndWorkersAgreeOnEveryJob) {
   JobJournal journal(dir_);
   ShapeCache cache(int64_t{1} << 28);
   const TriangleMesh creature = limbed_blob(2);
-  const std::string source = upload(meshes, off_bytes(creature), "creature.off");
+  const std::string source = upload(meshes, off_text(creature), "creature.off");
   const std::string target =
-      upload(meshes, off_bytes(rotated_scaled_renumbered(creature, 1.3, 7).mesh), "moved.off");
+      upload(meshes, off_text(rotated_scaled_renumbered(creature, 1.3, 7).mesh), "moved.off");
 
   JobManagerOptions options;
   options.workers = 2;

@@ -19,6 +19,7 @@
 #include "service_error.h"
 #include "storage/durable_file.h"
 #include "storage/job_journal.h"
+#include "off_text.h"
 #include "storage/mesh_store.h"
 
 namespace isocorr::server {
@@ -26,15 +27,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Kind = ServiceError::Kind;
-
-std::string off_text(const TriangleMesh& mesh) {
-  std::ostringstream out;
-  out.precision(17);
-  out << "OFF\n" << mesh.num_vertices() << ' ' << mesh.num_faces() << " 0\n";
-  for (const Vec3& p : mesh.vertices) out << p.x() << ' ' << p.y() << ' ' << p.z() << '\n';
-  for (const Face& f : mesh.faces) out << "3 " << f[0] << ' ' << f[1] << ' ' << f[2] << '\n';
-  return out.str();
-}
 
 
 // Changes one byte in the middle of a file, as a failing disk or a stray edit would.
