@@ -7,19 +7,16 @@
 
 #include <gtest/gtest.h>
 
+#include "storage_test_support.h"
+
 namespace isocorr::server {
 namespace {
 
 namespace fs = std::filesystem;
 
-class JobJournalTest : public ::testing::Test {
+class JobJournalTest : public DataDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("isocorr_journal_test_" + std::to_string(getpid()));
-    fs::remove_all(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  JobJournalTest() : DataDirTest("isocorr_journal_test_") {}
 };
 
 TEST_F(JobJournalTest, RecordsAndResultsSurviveReopening) {

@@ -15,7 +15,7 @@
 
 #include "isocorr/mesh/procedural_meshes.h"
 #include "isocorr/util/sha256.h"
-#include "off_text.h"
+#include "storage_test_support.h"
 
 namespace isocorr::server {
 namespace {
@@ -23,23 +23,10 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-std::string upload(MeshStore& store, const std::string& bytes, const std::string& filename) {
-  Sha256 hasher;
-  hasher.update(bytes);
-  const std::string digest = hasher.hex_digest();
-  auto pending = store.begin_upload(digest, filename, static_cast<int64_t>(bytes.size()));
-  pending->append(bytes);
-  return pending->commit().digest;
-}
 
-class JobManagerTest : public ::testing::Test {
+class JobManagerTest : public DataDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("isocorr_job_manager_test_" + std::to_string(getpid()));
-    fs::remove_all(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  JobManagerTest() : DataDirTest("isocorr_job_manager_test_") {}
 };
 
 TEST_F(JobManagerTest, ConcurrentCallersAndWorkersAgreeOnEveryJob) {
@@ -47,9 +34,9 @@ TEST_F(JobManagerTest, ConcurrentCallersAndWorkersAgreeOnEveryJob) {
   JobJournal journal(dir_);
   ShapeCache cache(int64_t{1} << 28);
   const TriangleMesh creature = limbed_blob(2);
-  const std::string source = upload(meshes, off_text(creature), "creature.off");
+  const std::string source = upload_mesh(meshes, off_text(creature), "creature.off").digest;
   const std::string target =
-      upload(meshes, off_text(rotated_scaled_renumbered(creature, 1.3, 7).mesh), "moved.off");
+      upload_mesh(meshes, off_text(rotated_scaled_renumbered(creature, 1.3, 7).mesh), "moved.off").digest;
 
   JobManagerOptions options;
   options.workers = 2;

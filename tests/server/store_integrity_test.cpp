@@ -19,7 +19,7 @@
 #include "service_error.h"
 #include "storage/durable_file.h"
 #include "storage/job_journal.h"
-#include "off_text.h"
+#include "storage_test_support.h"
 #include "storage/mesh_store.h"
 
 namespace isocorr::server {
@@ -75,19 +75,11 @@ std::vector<fs::path> files_ending(const fs::path& dir, const std::string& suffi
   return found;
 }
 
-class StoreIntegrity : public ::testing::Test {
+class StoreIntegrity : public DataDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("isocorr_integrity_test_" + std::to_string(getpid()));
-    fs::remove_all(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  StoreIntegrity() : DataDirTest("isocorr_integrity_test_") {}
 
-  static MeshInfo upload(MeshStore& store, const std::string& bytes) {
-    auto upload = store.begin_upload(sha256_hex(bytes), "ball.off", static_cast<int64_t>(bytes.size()));
-    upload->append(bytes);
-    return upload->commit();
-  }
+  static MeshInfo upload(MeshStore& store, const std::string& bytes) { return upload_mesh(store, bytes, "ball.off"); }
 
   static MatchOutput small_result() {
     MatchOutput result;
@@ -98,8 +90,6 @@ class StoreIntegrity : public ::testing::Test {
     result.report_json = "{\"final\":{}}";
     return result;
   }
-
-  fs::path dir_;
 };
 
 TEST_F(StoreIntegrity, CorruptedMeshIsDataLossQuarantinedAndRepairedByUpload) {
