@@ -19,6 +19,8 @@
 #include "api/upload_budget.h"
 #include "jobs/job_manager.h"
 #include "jobs/shape_cache.h"
+#include "metrics/live_metrics.h"
+#include "metrics/metrics_endpoint.h"
 #include "server_options.h"
 #include "storage/durable_file.h"
 #include "storage/job_journal.h"
@@ -74,6 +76,12 @@ int run(const ServerOptions& options) {
   ShapeCache cache(options.cache_bytes);
   JobManager jobs({options.threads, options.max_queued_jobs, options.max_attempts}, meshes, journal, cache);
   jobs.recover_and_start();
+  std::unique_ptr<MetricsEndpoint> metrics;
+  if (!options.metrics_listen.empty()) {
+    metrics = std::make_unique<MetricsEndpoint>(options.metrics_listen, [&] { return metrics_text(jobs, cache); });
+    if (!options.metrics_port_file.empty())
+      write_file_durably(options.metrics_port_file, std::to_string(metrics->port()) + "\n");
+  }
 
   UploadBudget upload_budget(options.max_upload_bytes_in_flight);
   MeshServiceImpl mesh_service(meshes, cache, jobs, upload_budget, auth);
@@ -112,6 +120,7 @@ int run(const ServerOptions& options) {
   // Stop accepting; calls still open after the grace period are cancelled.
   server->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(options.shutdown_grace_seconds));
   jobs.shutdown();
+  metrics.reset();
   spdlog::info("stopped");
   return 0;
 }

@@ -24,6 +24,10 @@ void add_server_flags(CLI::App& app, ServerOptions& o) {
   app.add_option("--tls-cert", o.tls_cert, "PEM certificate chain (enables TLS)")->check(CLI::ExistingFile);
   app.add_option("--tls-key", o.tls_key, "PEM private key for --tls-cert")->check(CLI::ExistingFile);
   app.add_option("--port-file", o.port_file, "write the bound port to this file once listening");
+  app.add_option("--metrics-listen", o.metrics_listen,
+                 "serve Prometheus metrics at http://HOST:PORT/metrics (PORT alone: on 127.0.0.1; off unless given)");
+  app.add_option("--metrics-port-file", o.metrics_port_file, "write the metrics endpoint's bound port to this file")
+      ->needs("--metrics-listen");
   app.add_option("--log-level", o.log_level, "trace, debug, info, warn or error")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}))->capture_default_str();
 }

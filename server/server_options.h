@@ -25,6 +25,8 @@ struct ServerOptions {
   std::string token_file, tls_cert, tls_key;
   std::string port_file;                    // written with the bound port (for --listen HOST:0)
   std::string log_level = "info";
+  std::string metrics_listen;               // Prometheus endpoint; empty = off
+  std::string metrics_port_file;            // written with its bound port (for PORT 0)
 };
 
 void add_server_flags(CLI::App& app, ServerOptions& options);

@@ -50,14 +50,15 @@ v1::Job follow_job(Connection& connection, const std::string& name, const std::f
   // "cancelled".
   const bool server_gone = status.ok() || status.error_code() == grpc::StatusCode::CANCELLED ||
                            status.error_code() == grpc::StatusCode::UNAVAILABLE;
-  if (!server_gone) check_rpc(status, "cannot watch " + name);
+  if (!server_gone) check_rpc(status, *context, "cannot watch " + name);
   throw RpcError("lost the server " + connection.address() + " while following " + name,
                  grpc::Status(grpc::StatusCode::UNAVAILABLE,
                               (status.error_code() == grpc::StatusCode::UNAVAILABLE ? status.error_message()
                                                                                     : "the watch ended early") +
                                   "; the job was not cancelled and goes on there (it is queued again when the "
                                   "server restarts): follow it with `isocorr watch " + name + " --server " +
-                                  connection.address() + "`"));
+                                  connection.address() + "`"),
+                 request_id_of(*context));  // none when the server died; its id when it is stopping
 }
 
 v1::Job follow_job_across_restarts(Connection& connection, const std::string& name,

@@ -32,11 +32,12 @@ UploadOutcome ensure_uploaded(Connection& connection, const std::string& path) {
   UploadOutcome outcome;
   v1::GetMeshRequest get;
   get.set_name("meshes/" + digest);
-  const grpc::Status found = connection.meshes().GetMesh(connection.context().get(), get, &outcome.mesh);
+  auto lookup = connection.context();
+  const grpc::Status found = connection.meshes().GetMesh(lookup.get(), get, &outcome.mesh);
   if (found.ok()) return outcome;
   // DATA_LOSS: the server holds a corrupted copy, which uploading the right bytes repairs.
   if (found.error_code() != grpc::StatusCode::NOT_FOUND && found.error_code() != grpc::StatusCode::DATA_LOSS)
-    check_rpc(found, "cannot look up " + path);
+    check_rpc(found, *lookup, "cannot look up " + path);
 
   auto context = connection.context(/*long_call=*/true);
   v1::UploadMeshResponse response;
@@ -53,7 +54,7 @@ UploadOutcome ensure_uploaded(Connection& connection, const std::string& path) {
     open = writer->Write(request);
   }
   if (open) writer->WritesDone();
-  check_rpc(writer->Finish(), "cannot upload " + path);
+  check_rpc(writer->Finish(), *context, "cannot upload " + path);
   outcome.mesh = response.mesh();
   outcome.uploaded = !response.already_existed();
   return outcome;

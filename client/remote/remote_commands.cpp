@@ -85,7 +85,8 @@ RemoteMatchRunner register_remote_commands(CLI::App& app, ConnectionOptions& opt
         request.set_target_mesh(mesh_name(connection, submit->target));
         *request.mutable_settings() = api::settings_to_proto(submit->settings);
         v1::Job job;
-        check_rpc(connection.jobs().CreateMatchJob(connection.context().get(), request, &job), "cannot create the job");
+        auto context = connection.context();
+        check_rpc(connection.jobs().CreateMatchJob(context.get(), request, &job), *context, "cannot create the job");
         print_line(json ? to_json(job) : job.name());
         return kExitOk;
       });
@@ -101,7 +102,8 @@ RemoteMatchRunner register_remote_commands(CLI::App& app, ConnectionOptions& opt
                   v1::GetMeshRequest request;
                   request.set_name(*status_name);
                   v1::Mesh mesh;
-                  check_rpc(connection.meshes().GetMesh(connection.context().get(), request, &mesh),
+                  auto context = connection.context();
+                  check_rpc(connection.meshes().GetMesh(context.get(), request, &mesh), *context,
                             "cannot get " + *status_name);
                   print_line(json ? to_json(mesh) : describe_mesh(mesh));
                   return kExitOk;
@@ -109,7 +111,8 @@ RemoteMatchRunner register_remote_commands(CLI::App& app, ConnectionOptions& opt
                 v1::GetJobRequest request;
                 request.set_name(job_name(*status_name));
                 v1::Job job;
-                check_rpc(connection.jobs().GetJob(connection.context().get(), request, &job),
+                auto context = connection.context();
+                check_rpc(connection.jobs().GetJob(context.get(), request, &job), *context,
                           "cannot get " + request.name());
                 print_line(json ? to_json(job) : describe_job(job));
                 return kExitOk;
@@ -153,7 +156,8 @@ RemoteMatchRunner register_remote_commands(CLI::App& app, ConnectionOptions& opt
               static_cast<int32_t>((wait->seconds - static_cast<int64_t>(wait->seconds)) * 1e9));
         }
         v1::Job job;
-        check_rpc(connection.jobs().WaitJob(connection.context(/*long_call=*/true).get(), request, &job),
+        auto context = connection.context(/*long_call=*/true);
+        check_rpc(connection.jobs().WaitJob(context.get(), request, &job), *context,
                   "cannot wait for " + request.name());
         print_line(json ? to_json(job) : describe_job(job));
         return exit_code_for_job(job);
@@ -168,7 +172,8 @@ RemoteMatchRunner register_remote_commands(CLI::App& app, ConnectionOptions& opt
                 v1::CancelJobRequest request;
                 request.set_name(job_name(*cancel_name));
                 v1::Job job;
-                check_rpc(connection.jobs().CancelJob(connection.context().get(), request, &job),
+                auto context = connection.context();
+                check_rpc(connection.jobs().CancelJob(context.get(), request, &job), *context,
                           "cannot cancel " + request.name());
                 print_line(json ? to_json(job) : describe_job(job));
                 return kExitOk;
@@ -221,7 +226,8 @@ RemoteMatchRunner register_remote_commands(CLI::App& app, ConnectionOptions& opt
                     v1::ListMeshesRequest request;
                     request.set_page_token(token);
                     v1::ListMeshesResponse response;
-                    check_rpc(connection.meshes().ListMeshes(connection.context().get(), request, &response),
+                    auto context = connection.context();
+                    check_rpc(connection.meshes().ListMeshes(context.get(), request, &response), *context,
                               "cannot list meshes");
                     for (const auto& mesh : response.meshes()) print_line(json ? to_json(mesh) : describe_mesh(mesh));
                     token = response.next_page_token();
@@ -229,7 +235,8 @@ RemoteMatchRunner register_remote_commands(CLI::App& app, ConnectionOptions& opt
                     v1::ListJobsRequest request;
                     request.set_page_token(token);
                     v1::ListJobsResponse response;
-                    check_rpc(connection.jobs().ListJobs(connection.context().get(), request, &response),
+                    auto context = connection.context();
+                    check_rpc(connection.jobs().ListJobs(context.get(), request, &response), *context,
                               "cannot list jobs");
                     for (const auto& job : response.jobs()) print_line(json ? to_json(job) : describe_job(job));
                     token = response.next_page_token();
@@ -247,7 +254,8 @@ RemoteMatchRunner register_remote_commands(CLI::App& app, ConnectionOptions& opt
                 v1::DeleteMeshRequest request;
                 request.set_name(*delete_name);
                 v1::DeleteMeshResponse response;
-                check_rpc(connection.meshes().DeleteMesh(connection.context().get(), request, &response),
+                auto context = connection.context();
+                check_rpc(connection.meshes().DeleteMesh(context.get(), request, &response), *context,
                           "cannot delete " + *delete_name);
                 print_line(json ? "{}" : "deleted " + *delete_name);
                 return kExitOk;
@@ -259,7 +267,8 @@ RemoteMatchRunner register_remote_commands(CLI::App& app, ConnectionOptions& opt
               [](Connection& connection, bool json) {
                 grpc::health::v1::HealthCheckRequest request;
                 grpc::health::v1::HealthCheckResponse response;
-                check_rpc(connection.health().Check(connection.context().get(), request, &response),
+                auto context = connection.context();
+                check_rpc(connection.health().Check(context.get(), request, &response), *context,
                           "health check of " + connection.address());
                 const bool serving = response.status() == grpc::health::v1::HealthCheckResponse::SERVING;
                 print_line(json ? to_json(response)

@@ -38,7 +38,8 @@ int run_remote_match(const ConnectionOptions& options, const MatchJobFiles& file
     request.set_target_mesh(target.mesh.name());
     *request.mutable_settings() = api::settings_to_proto(files.settings);
     v1::Job job;
-    check_rpc(connection.jobs().CreateMatchJob(connection.context().get(), request, &job), "cannot create the job");
+    auto context = connection.context();
+    check_rpc(connection.jobs().CreateMatchJob(context.get(), request, &job), *context, "cannot create the job");
     spdlog::info("job {} on {}", job.name(), connection.address());
 
     std::signal(SIGINT, on_match_interrupt);

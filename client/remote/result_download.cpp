@@ -57,13 +57,14 @@ MatchOutput download_result(Connection& connection, const std::string& job_name,
       case ResultPart::kReport: append_chunk(report, chunk, chunk.data()); break;
     }
   }
-  check_rpc(reader->Finish(), "cannot download the result of " + job_name);
+  check_rpc(reader->Finish(), *context, "cannot download the result of " + job_name);
   result.report_json.assign(report.begin(), report.end());
 
   v1::GetJobRequest get;
   get.set_name(job_name);
   v1::Job job;
-  check_rpc(connection.jobs().GetJob(connection.context().get(), get, &job), "cannot read " + job_name);
+  auto get_context = connection.context();
+  check_rpc(connection.jobs().GetJob(get_context.get(), get, &job), *get_context, "cannot read " + job_name);
   const int64_t sources = job.result().source_vertex_count(), targets = job.result().target_vertex_count();
   const bool all = parts.empty();
   auto asked = [&](ResultPart part) { return all || std::find(parts.begin(), parts.end(), part) != parts.end(); };

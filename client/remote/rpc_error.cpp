@@ -5,39 +5,30 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include "codec/call_metadata.h"
 #include "commands.h"
 #include "isocorr/util/error.h"
 
 namespace isocorr::cli {
 
-RpcError::RpcError(const std::string& what, const grpc::Status& status)
-    : std::runtime_error(what + ": " + status.error_message()), status_(status) {}
+RpcError::RpcError(const std::string& what, const grpc::Status& status, const std::string& request_id)
+    : std::runtime_error(what + ": " + status.error_message() +
+                         (request_id.empty() ? "" : " (request " + request_id + ")")),
+      status_(status),
+      request_id_(request_id) {}
 
-void check_rpc(const grpc::Status& status, const std::string& what) {
-  if (!status.ok()) throw RpcError(what, status);
+std::string request_id_of(const grpc::ClientContext& context) {
+  // Trailing first: a call that failed before any response header carries it only there.
+  for (const auto* metadata : {&context.GetServerTrailingMetadata(), &context.GetServerInitialMetadata()})
+    if (auto it = metadata->find(api::kRequestIdKey); it != metadata->end())
+      return std::string(it->second.data(), it->second.size());
+  return "";
 }
 
-const char* status_code_name(grpc::StatusCode code) {
-  switch (code) {
-    case grpc::StatusCode::OK: return "OK";
-    case grpc::StatusCode::CANCELLED: return "CANCELLED";
-    case grpc::StatusCode::UNKNOWN: return "UNKNOWN";
-    case grpc::StatusCode::INVALID_ARGUMENT: return "INVALID_ARGUMENT";
-    case grpc::StatusCode::DEADLINE_EXCEEDED: return "DEADLINE_EXCEEDED";
-    case grpc::StatusCode::NOT_FOUND: return "NOT_FOUND";
-    case grpc::StatusCode::ALREADY_EXISTS: return "ALREADY_EXISTS";
-    case grpc::StatusCode::PERMISSION_DENIED: return "PERMISSION_DENIED";
-    case grpc::StatusCode::RESOURCE_EXHAUSTED: return "RESOURCE_EXHAUSTED";
-    case grpc::StatusCode::FAILED_PRECONDITION: return "FAILED_PRECONDITION";
-    case grpc::StatusCode::ABORTED: return "ABORTED";
-    case grpc::StatusCode::OUT_OF_RANGE: return "OUT_OF_RANGE";
-    case grpc::StatusCode::UNIMPLEMENTED: return "UNIMPLEMENTED";
-    case grpc::StatusCode::INTERNAL: return "INTERNAL";
-    case grpc::StatusCode::UNAVAILABLE: return "UNAVAILABLE";
-    case grpc::StatusCode::DATA_LOSS: return "DATA_LOSS";
-    case grpc::StatusCode::UNAUTHENTICATED: return "UNAUTHENTICATED";
-    default: return "UNKNOWN";
-  }
+void check_rpc(const grpc::Status& status, const grpc::ClientContext& context, const std::string& what) {
+  const std::string request_id = request_id_of(context);
+  if (!request_id.empty()) spdlog::debug("server request {}: {}", request_id, api::status_code_name(status.error_code()));
+  if (!status.ok()) throw RpcError(what, status, request_id);
 }
 
 int exit_code_for(grpc::StatusCode code) {
@@ -62,15 +53,18 @@ int exit_code_for(grpc::StatusCode code) {
 }
 
 int run_remote_command(bool json, const std::function<int()>& body) {
-  auto report = [&](const char* code, const std::string& message) {
-    if (json)
-      std::printf("%s\n", nlohmann::json{{"error", {{"code", code}, {"message", message}}}}.dump().c_str());
+  auto report = [&](const char* code, const std::string& message, const std::string& request_id = "") {
+    if (json) {
+      nlohmann::json error{{"code", code}, {"message", message}};
+      if (!request_id.empty()) error["request_id"] = request_id;
+      std::printf("%s\n", nlohmann::json{{"error", error}}.dump().c_str());
+    }
     spdlog::error("{}", message);
   };
   try {
     return body();
   } catch (const RpcError& e) {
-    report(status_code_name(e.status().error_code()), e.what());
+    report(api::status_code_name(e.status().error_code()), e.what(), e.request_id());
     return exit_code_for(e.status().error_code());
   } catch (const InputError& e) {
     report("INVALID_ARGUMENT", e.what());

@@ -6,23 +6,32 @@
 #include <stdexcept>
 #include <string>
 
+#include <grpcpp/client_context.h>
 #include <grpcpp/support/status.h>
 
 namespace isocorr::cli {
 
 class RpcError : public std::runtime_error {
  public:
-  RpcError(const std::string& what, const grpc::Status& status);
+  // `request_id`: the server's id for the failed call, when it answered with one; the
+  // message then ends with "(request <id>)" so that a user can quote it.
+  RpcError(const std::string& what, const grpc::Status& status, const std::string& request_id = "");
   const grpc::Status& status() const { return status_; }
+  const std::string& request_id() const { return request_id_; }
 
  private:
   grpc::Status status_;
+  std::string request_id_;
 };
 
-// Throws RpcError("<what>: <server's message>") unless `status` is OK.
-void check_rpc(const grpc::Status& status, const std::string& what);
+// The server's request id for a finished call ("" when it sent none, e.g. health checks or
+// a server that never answered).
+std::string request_id_of(const grpc::ClientContext& context);
 
-const char* status_code_name(grpc::StatusCode code);
+// Logs the call's request id (with --verbose) and throws RpcError("<what>: <server's
+// message> (request <id>)") unless `status` is OK.
+void check_rpc(const grpc::Status& status, const grpc::ClientContext& context, const std::string& what);
+
 int exit_code_for(grpc::StatusCode code);
 
 // Runs a remote command: RpcError and InputError become a message on stderr (a JSON

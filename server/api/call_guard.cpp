@@ -4,7 +4,9 @@
 
 #include <spdlog/spdlog.h>
 
+#include "codec/call_metadata.h"
 #include "isocorr/util/error.h"
+#include "metrics/server_metrics.h"
 #include "service_error.h"
 
 namespace isocorr::server {
@@ -29,6 +31,10 @@ grpc::Status guarded_call(const char* method, grpc::ServerContext& context, cons
   static std::atomic<uint64_t> counter{0};
   const CallInfo call{std::string("r").append(std::to_string(++counter))};  // not "r" + ...: GCC 12 -Wrestrict false positive
   spdlog::debug("[{}] {} from {}", call.request_id, method, context.peer());
+  // Initial metadata reaches a client that reads it as soon as the call starts; the
+  // trailing copy also reaches one whose call ended before any header was sent.
+  context.AddInitialMetadata(api::kRequestIdKey, call.request_id);
+  context.AddTrailingMetadata(api::kRequestIdKey, call.request_id);
   grpc::Status status = auth.check(context);
   if (status.ok()) {
     try {
@@ -45,6 +51,7 @@ grpc::Status guarded_call(const char* method, grpc::ServerContext& context, cons
       status = grpc::Status(grpc::StatusCode::INTERNAL, message);
     }
   }
+  server_metrics().rpcs.with({method, api::status_code_name(status.error_code())}).add();
   if (status.ok())
     spdlog::info("[{}] {} ok", call.request_id, method);
   else

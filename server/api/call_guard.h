@@ -1,5 +1,6 @@
 // What every API method does around its body: check the bearer token, give the call a
-// request id for the logs, and turn domain errors into gRPC status codes.
+// request id for the logs and the client (metadata "x-request-id"), turn domain errors into
+// gRPC status codes, and count the call by method and code (isocorr_rpcs_total).
 #pragma once
 
 #include <functional>

@@ -73,10 +73,11 @@ bool stream_elements(grpc::ServerWriter<v1::ResultChunk>& writer, v1::ResultPart
 
 grpc::Status JobServiceImpl::CreateMatchJob(grpc::ServerContext* context, const v1::CreateMatchJobRequest* request,
                                             v1::Job* response) {
-  return guarded_call("CreateMatchJob", *context, auth_, [&](const CallInfo&) {
+  return guarded_call("CreateMatchJob", *context, auth_, [&](const CallInfo& call) {
     const std::string source = require_mesh_digest(request->source_mesh(), "source_mesh");
     const std::string target = require_mesh_digest(request->target_mesh(), "target_mesh");
-    *response = job_to_proto(jobs_.create(source, target, api::settings_from_proto(request->settings())));
+    *response = job_to_proto(
+        jobs_.create(source, target, api::settings_from_proto(request->settings()), call.request_id));
     return grpc::Status::OK;
   });
 }

@@ -7,6 +7,7 @@
 #include "api/request_limits.h"
 #include "api/resource_codec.h"
 #include "isocorr/util/sha256.h"
+#include "metrics/server_metrics.h"
 #include "service_error.h"
 
 namespace isocorr::server {
@@ -49,6 +50,7 @@ grpc::Status MeshServiceImpl::UploadMesh(grpc::ServerContext* context,
     while (reader->Read(&request)) {
       if (request.has_header()) throw ServiceError(Kind::kInvalidArgument, "only the first message may carry a header");
       received += static_cast<int64_t>(request.chunk().size());
+      server_metrics().upload_bytes.add(static_cast<double>(request.chunk().size()));
       if (received > header.size_bytes())
         throw ServiceError(Kind::kInvalidArgument, "more bytes than the header's size_bytes " +
                                                        std::to_string(header.size_bytes()) + " were sent");

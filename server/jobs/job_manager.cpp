@@ -7,6 +7,7 @@
 
 #include "isocorr/util/error.h"
 #include "jobs/job_execution.h"
+#include "metrics/server_metrics.h"
 #include "service_error.h"
 
 namespace isocorr::server {
@@ -54,6 +55,14 @@ bool fail_if_mesh_missing(MeshStore& meshes, JobRecord& record) {
   return true;
 }
 
+void record_duration_metrics(const JobRecord& job) {
+  ServerMetrics& metrics = server_metrics();
+  if (job.start_time_ms > 0)
+    metrics.job_duration.with({job_state_name(job.state)}).observe((job.end_time_ms - job.start_time_ms) / 1000.0);
+  if (job.state == JobState::kSucceeded)
+    for (const StageTiming& timing : job.summary.timings) metrics.stage_duration.with({timing.stage}).observe(timing.seconds);
+}
+
 }  // namespace
 
 JobManager::JobManager(JobManagerOptions options, MeshStore& meshes, JobJournal& journal, ShapeCache& cache)
@@ -83,9 +92,9 @@ void JobManager::recover_and_start() {
       try {
         journal_.save(record);
       } catch (const std::exception& e) {  // full disk: the journal keeps the old state, re-read next start
-        spdlog::error("[job {}] cannot write its journal record: {}", record.id, e.what());
+        spdlog::error("[{}] cannot write its journal record: {}", job_tag(record), e.what());
       }
-      spdlog::info("[job {}] recovered: {}{}", record.id, job_state_name(record.state),
+      spdlog::info("[{}] recovered: {}{}", job_tag(record), job_state_name(record.state),
                    was_running ? " (was running when the server stopped)" : "");
     }
     auto slot = std::make_unique<Slot>();
@@ -110,7 +119,7 @@ void JobManager::shutdown() {
 }
 
 JobRecord JobManager::create(const std::string& source_digest, const std::string& target_digest,
-                             const MatchSettings& settings) {
+                             const MatchSettings& settings, const std::string& request_id) {
   try {
     settings.validate();
   } catch (const InputError& e) {
@@ -132,13 +141,14 @@ JobRecord JobManager::create(const std::string& source_digest, const std::string
   record.source_digest = source_digest;
   record.target_digest = target_digest;
   record.settings = settings;
+  record.created_by_request = request_id;
   record.create_time_ms = now_ms();
   journal_.save(record);
   queue_.push_back(record.id);
   const JobRecord created = record;
   jobs_.emplace(record.id, std::move(slot));
   work_available_.notify_one();
-  spdlog::info("[job {}] queued: {} -> {} ({} in queue)", created.id, source_digest.substr(0, 12),
+  spdlog::info("[{}] queued: {} -> {} ({} in queue)", job_tag(created), source_digest.substr(0, 12),
                target_digest.substr(0, 12), queue_.size());
   return created;
 }
@@ -188,7 +198,7 @@ JobRecord JobManager::cancel(const std::string& id) {
     publish_locked(slot);
   }
   slot.cancel_requested = true;
-  spdlog::info("[job {}] cancel requested", id);
+  spdlog::info("[{}] cancel requested", job_tag(record));
   return record;
 }
 
@@ -200,6 +210,14 @@ JobRecord JobManager::wait_for_change(const std::string& id, uint64_t seen_versi
     return slot.record.version != seen_version || is_final(slot.record.state);
   });
   return slot.record;
+}
+
+JobManager::Census JobManager::census() const {
+  std::lock_guard lock(mutex_);
+  Census census;
+  for (const auto& [id, slot] : jobs_) ++census.by_state[slot->record.state];
+  census.queue_length = queue_.size();
+  return census;
 }
 
 bool JobManager::mesh_in_use(const std::string& digest) const {
@@ -230,7 +248,7 @@ void JobManager::worker_loop() {
         // Cannot record the start (full disk): the job stays first in the queue, shows why,
         // and is tried again shortly, so it runs once space returns.
         if (slot->record.progress.stage != kWaitingForDisk) {
-          spdlog::error("[job {}] cannot record its start, retrying every {} s: {}", running.id,
+          spdlog::error("[{}] cannot record its start, retrying every {} s: {}", job_tag(running),
                         kDiskRetryInterval.count(), e.what());
           slot->record.progress.stage = kWaitingForDisk;
           publish_locked(*slot);
@@ -252,14 +270,14 @@ void JobManager::run(Slot& slot) {
     std::lock_guard lock(mutex_);
     job = slot.record;
   }
-  spdlog::info("[job {}] running (attempt {})", job.id, job.attempts);
+  spdlog::info("[{}] running (attempt {})", job_tag(job), job.attempts);
   JobControl control;
   control.cancel_requested = &slot.cancel_requested;
   control.on_progress = [&](const Progress& p) {
     std::lock_guard lock(mutex_);
     slot.record.progress = {p.stage, p.level, p.levels, p.fraction};
     publish_locked(slot);
-    spdlog::debug("[job {}] {} level {}/{} {:.0f}%", job.id, p.stage, p.level, p.levels, 100 * p.fraction);
+    spdlog::debug("[{}] {} level {}/{} {:.0f}%", job_tag(job), p.stage, p.level, p.levels, 100 * p.fraction);
   };
 
   JobRecord final_record = job;
@@ -273,7 +291,7 @@ void JobManager::run(Slot& slot) {
     final_record.state = JobState::kSucceeded;
     final_record.summary = result.summary();
     final_record.progress = {"done", 0, 0, 1.0};
-    spdlog::info("[job {}] succeeded: D_iso {:.4f}", job.id, final_record.summary.diso);
+    spdlog::info("[{}] succeeded: D_iso {:.4f}", job_tag(job), final_record.summary.diso);
   } catch (const Cancelled&) {
     std::unique_lock lock(mutex_);
     if (stopping_) {
@@ -285,33 +303,33 @@ void JobManager::run(Slot& slot) {
       try {
         journal_.save(requeued);
       } catch (const std::exception& e) {  // the journal says RUNNING: the next start counts it
-        spdlog::error("[job {}] cannot write its journal record: {}", job.id, e.what());
+        spdlog::error("[{}] cannot write its journal record: {}", job_tag(job), e.what());
       }
       slot.record = requeued;
       publish_locked(slot);
-      spdlog::info("[job {}] interrupted by shutdown; queued again for the next start", job.id);
+      spdlog::info("[{}] interrupted by shutdown; queued again for the next start", job_tag(job));
       return;
     }
     lock.unlock();
     final_record.state = JobState::kCancelled;
     final_record.error_code = ErrorCode::kCancelled;
     final_record.error_message = "cancelled while running";
-    spdlog::info("[job {}] cancelled", job.id);
+    spdlog::info("[{}] cancelled", job_tag(job));
   } catch (const InputError& e) {
     final_record.state = JobState::kFailed;
     final_record.error_code = ErrorCode::kInvalidArgument;
     final_record.error_message = e.what();
-    spdlog::warn("[job {}] failed: {}", job.id, e.what());
+    spdlog::warn("[{}] failed: {}", job_tag(job), e.what());
   } catch (const ServiceError& e) {  // a corrupted mesh (DATA_LOSS), a full disk
     final_record.state = JobState::kFailed;
     final_record.error_code = error_code_for(e.kind());
     final_record.error_message = e.what();
-    spdlog::error("[job {}] failed: {}", job.id, e.what());
+    spdlog::error("[{}] failed: {}", job_tag(job), e.what());
   } catch (const std::exception& e) {
     final_record.state = JobState::kFailed;
     final_record.error_code = ErrorCode::kInternal;
     final_record.error_message = std::string("internal error: ") + e.what();
-    spdlog::error("[job {}] failed: {}", job.id, e.what());
+    spdlog::error("[{}] failed: {}", job_tag(job), e.what());
   }
   finish(slot, std::move(final_record));
 }
@@ -326,7 +344,7 @@ void JobManager::finish(Slot& slot, JobRecord final_record) {
     // Not durable: the journal still says RUNNING, so the job runs again after a restart.
     // Until then it ends here with the reason rather than staying RUNNING; a result that
     // cannot be recorded is not reported as a success.
-    spdlog::error("[job {}] cannot write its journal record: {}", final_record.id, e.what());
+    spdlog::error("[{}] cannot write its journal record: {}", job_tag(final_record), e.what());
     const std::string not_recorded =
         std::string("its end could not be recorded (") + e.what() + "); it runs again when the server restarts";
     if (final_record.state == JobState::kSucceeded) {
@@ -337,6 +355,7 @@ void JobManager::finish(Slot& slot, JobRecord final_record) {
       final_record.error_message += "; " + not_recorded;
     }
   }
+  record_duration_metrics(final_record);
   slot.record = std::move(final_record);
   publish_locked(slot);
 }

@@ -49,7 +49,9 @@ class JobManager {
 
   // Durable when it returns. Throws ServiceError (kNotFound, kInvalidArgument,
   // kResourceExhausted, kUnavailable while shutting down).
-  JobRecord create(const std::string& source_digest, const std::string& target_digest, const MatchSettings& settings);
+  // `request_id` is the creating call's, kept in the record and named by the job's log lines.
+  JobRecord create(const std::string& source_digest, const std::string& target_digest, const MatchSettings& settings,
+                   const std::string& request_id = "");
   JobRecord get(const std::string& id) const;  // throws ServiceError(kNotFound)
   std::vector<JobRecord> list() const;         // oldest first
   // A queued job ends CANCELLED at once, a running one at the engine's next safe point.
@@ -59,6 +61,12 @@ class JobManager {
   JobRecord wait_for_change(const std::string& id, uint64_t seen_version,
                             std::chrono::steady_clock::time_point deadline) const;
   bool mesh_in_use(const std::string& digest) const;
+
+  struct Census {
+    std::map<JobState, int> by_state;
+    size_t queue_length = 0;  // jobs waiting for a worker
+  };
+  Census census() const;  // for the metrics endpoint
   JobJournal& journal() { return journal_; }
 
  private:

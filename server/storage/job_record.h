@@ -39,7 +39,11 @@ struct JobRecord {
   ErrorCode error_code = ErrorCode::kInternal;  // when kFailed or kCancelled
   std::string error_message;
   uint64_t version = 0;      // bumped on every change; watchers wait for a new one
+  std::string created_by_request;  // the CreateMatchJob call's request id ("" in older records)
 };
+
+// "job {id} from {request}" (or "job {id}"), the prefix of every log line about the job.
+std::string job_tag(const JobRecord& job);
 
 int64_t now_ms();
 

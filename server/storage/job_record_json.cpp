@@ -48,6 +48,7 @@ json record_to_json(const JobRecord& job) {
           {"attempts", job.attempts},
           {"error_code", static_cast<int>(job.error_code)},
           {"error_message", job.error_message},
+          {"created_by_request", job.created_by_request},
           {"summary",
            {{"source_vertices", job.summary.source_vertices},
             {"target_vertices", job.summary.target_vertices},
@@ -74,6 +75,8 @@ JobRecord record_from_json(const json& j) {
   job.attempts = integer_at<int>(j, "attempts");
   job.error_code = static_cast<ErrorCode>(integer_at<int>(j, "error_code"));
   job.error_message = j.at("error_message");
+  // Records written before request ids were kept have none.
+  if (j.contains("created_by_request")) job.created_by_request = j.at("created_by_request");
   const json& s = j.at("summary");
   job.summary.source_vertices = integer_at<int>(s, "source_vertices");
   job.summary.target_vertices = integer_at<int>(s, "target_vertices");

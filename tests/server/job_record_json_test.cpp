@@ -21,6 +21,7 @@ JobRecord sample_record() {
   job.error_code = ErrorCode::kAborted;
   job.error_message = "gave up";
   job.summary.timings = {{"dense", 0.5}};
+  job.created_by_request = "r42";
   return job;
 }
 
@@ -34,6 +35,18 @@ TEST(JobRecordJson, RoundTripKeepsEveryStoredField) {
   EXPECT_EQ(back.error_message, "gave up");
   ASSERT_EQ(back.summary.timings.size(), 1u);
   EXPECT_EQ(back.summary.timings[0].stage, "dense");
+  EXPECT_EQ(back.created_by_request, "r42");
+}
+
+// Records written before jobs kept the request that created them stay readable.
+TEST(JobRecordJson, RecordWithoutCreatingRequestIsRead) {
+  nlohmann::json older = record_to_json(sample_record());
+  older.erase("created_by_request");
+  const JobRecord back = record_from_json(older);
+  EXPECT_EQ(back.id, "0123456789abcdef");
+  EXPECT_EQ(back.created_by_request, "");
+  EXPECT_EQ(job_tag(back), "job 0123456789abcdef");
+  EXPECT_EQ(job_tag(sample_record()), "job 0123456789abcdef from r42");
 }
 
 // Found by fuzz/job_record_fuzzer.cpp with this record: nlohmann cast 1e30 to int64_t

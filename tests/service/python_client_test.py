@@ -116,6 +116,13 @@ def main():
         failures.append("GetJob of an unknown job succeeded")
     except grpc.RpcError as error:
         check(error.code() == grpc.StatusCode.NOT_FOUND, f"unknown job gave {error.code()}")
+        error_ids = [value for key, value in error.trailing_metadata() if key == "x-request-id"]
+        check(len(error_ids) == 1 and error_ids[0].startswith("r"), f"error's request id: {error_ids}")
+
+    # Every response names the server's request in its metadata (here the initial metadata).
+    _, call = jobs.GetJob.with_call(pb.GetJobRequest(name=job.name), timeout=10)
+    ok_ids = [value for key, value in call.initial_metadata() if key == "x-request-id"]
+    check(len(ok_ids) == 1 and ok_ids[0].startswith("r"), f"response's request id: {ok_ids}")
 
     for failure in failures:
         print("FAILED:", failure)
