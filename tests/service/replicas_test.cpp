@@ -42,7 +42,7 @@ class Replicas : public ::testing::Test {
     write_ply((*dir_ / "creature.ply").string(), creature);
     write_ply((*dir_ / "creature_moved.ply").string(), rotated_scaled_renumbered(creature, 1.3, 7).mesh);
     // Larger: a job on it is still running when the test acts on it.
-    const TriangleMesh large = limbed_blob(5);
+    const TriangleMesh large = limbed_blob(4);
     write_ply((*dir_ / "large.ply").string(), large);
     write_ply((*dir_ / "large_moved.ply").string(), rotated_scaled_renumbered(large, 0.8, 11).mesh);
   }
