@@ -117,16 +117,21 @@ std::optional<MeshInfo> PgMeshStore::find_intact(const std::string& digest) {
 }
 
 std::vector<MeshInfo> PgMeshStore::list() {
-  const std::vector<std::string> digests = database_.transaction([](pqxx::work& txn) {
-    std::vector<std::string> found;
-    for (const auto& row : txn.exec("SELECT digest FROM isocorr_meshes WHERE set_aside IS NULL ORDER BY digest"))
-      found.push_back(row[0].as<std::string>());
-    return found;
+  const pqxx::result rows = database_.transaction([](pqxx::work& txn) {
+    return txn.exec("SELECT digest, description, octet_length(bytes) AS size FROM isocorr_meshes "
+                    "WHERE set_aside IS NULL ORDER BY digest");
   });
   std::vector<MeshInfo> meshes;
-  for (const std::string& digest : digests) {
-    Lookup result = checked(digest, /*with_bytes=*/false);
-    if (result.found == Found::kIntact) meshes.push_back(std::move(result.info));
+  for (const auto& row : rows) {
+    const std::string digest = row["digest"].as<std::string>();
+    MeshInfo info;
+    std::string no_bytes;
+    if (problem_of(digest, row, /*with_bytes=*/false, info, no_bytes).empty()) {
+      meshes.push_back(std::move(info));
+      continue;
+    }
+    Lookup again = checked(digest, /*with_bytes=*/false);  // sets it aside unless repaired meanwhile
+    if (again.found == Found::kIntact) meshes.push_back(std::move(again.info));
   }
   return meshes;
 }

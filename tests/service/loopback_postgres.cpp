@@ -5,6 +5,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <stdexcept>
 
 namespace isocorr::testing {
@@ -99,6 +100,27 @@ void LoopbackPostgres::create_database(const std::string& name) const {
 CommandRun LoopbackPostgres::sql(const std::string& database, const std::string& statement) const {
   return run_command((bin_ / "psql").string() + " " + quoted(url(database)) + " -v ON_ERROR_STOP=1 -At -c " +
                      quoted(statement));
+}
+
+LoopbackPostgres* LoopbackPostgresTest::postgres_ = nullptr;
+
+void LoopbackPostgresTest::SetUpTestSuite() {
+  const fs::path bin = LoopbackPostgres::find_binaries();
+  if (!bin.empty()) postgres_ = new LoopbackPostgres(bin);
+}
+
+void LoopbackPostgresTest::TearDownTestSuite() {
+  delete postgres_;
+  postgres_ = nullptr;
+}
+
+void LoopbackPostgresTest::SetUp() {
+  if (!postgres_)
+    GTEST_SKIP() << "no PostgreSQL server binaries in /usr/lib/postgresql/*/bin (Debian package `postgresql`, "
+                    "listed in deploy/packages.txt): the shared-store tests cannot run here";
+  database_ = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  for (char& c : database_) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  postgres_->create_database(database_);
 }
 
 }  // namespace isocorr::testing

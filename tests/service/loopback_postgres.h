@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <string>
 
+#include <gtest/gtest.h>
+
 #include "server_process.h"
 
 namespace isocorr::testing {
@@ -36,6 +38,22 @@ class LoopbackPostgres {
   std::filesystem::path bin_, dir_;
   int port_ = 0;
   bool started_ = false;
+};
+
+// Tests on a loopback PostgreSQL: one server per test suite, a database of its own per test
+// (named after the test); skipped with a clear message where the binaries are absent.
+class LoopbackPostgresTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite();
+  static void TearDownTestSuite();
+  void SetUp() override;
+
+  // The test's database.
+  std::string database_url() const { return postgres_->url(database_); }
+  CommandRun sql(const std::string& statement) const { return postgres_->sql(database_, statement); }
+
+  static LoopbackPostgres* postgres_;  // null when the binaries are absent
+  std::string database_;
 };
 
 }  // namespace isocorr::testing

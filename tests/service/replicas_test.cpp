@@ -29,15 +29,14 @@ using nlohmann::json;
 
 constexpr const char* kLease = "2";  // seconds: a dead replica's job is taken over soon
 
-class Replicas : public ::testing::Test {
+class Replicas : public LoopbackPostgresTest {
  protected:
   static void SetUpTestSuite() {
-    const fs::path bin = LoopbackPostgres::find_binaries();
-    if (bin.empty()) return;
+    LoopbackPostgresTest::SetUpTestSuite();
+    if (!postgres_) return;
     dir_ = new fs::path(fs::temp_directory_path() / ("isocorr_replicas_test_" + std::to_string(getpid())));
     fs::remove_all(*dir_);
     fs::create_directories(*dir_);
-    postgres_ = new LoopbackPostgres(bin);
     const TriangleMesh creature = limbed_blob(3);
     write_ply((*dir_ / "creature.ply").string(), creature);
     write_ply((*dir_ / "creature_moved.ply").string(), rotated_scaled_renumbered(creature, 1.3, 7).mesh);
@@ -47,20 +46,10 @@ class Replicas : public ::testing::Test {
     write_ply((*dir_ / "large_moved.ply").string(), rotated_scaled_renumbered(large, 0.8, 11).mesh);
   }
   static void TearDownTestSuite() {
-    delete postgres_;
-    postgres_ = nullptr;
+    LoopbackPostgresTest::TearDownTestSuite();
     if (dir_) fs::remove_all(*dir_);
     delete dir_;
     dir_ = nullptr;
-  }
-  void SetUp() override {
-    if (!postgres_)
-      GTEST_SKIP() << "no PostgreSQL server binaries in /usr/lib/postgresql/*/bin (Debian package `postgresql`, "
-                      "listed in deploy/packages.txt): the shared-store replica test cannot run here";
-    // A database of its own per test.
-    database_ = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    for (char& c : database_) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    postgres_->create_database(database_);
   }
   void TearDown() override {
     replicas_[0].reset();
@@ -72,7 +61,7 @@ class Replicas : public ::testing::Test {
     replicas_[i].reset();
     replicas_[i] = std::make_unique<ServerProcess>(
         *dir_ / (database_ + "_replica-" + std::to_string(i)),
-        std::vector<std::string>{"--store", postgres_->url(database_), "--replica-id", replica_id(i), "--lease-seconds",
+        std::vector<std::string>{"--store", database_url(), "--replica-id", replica_id(i), "--lease-seconds",
                                  kLease, "--threads", "1"});
     return *replicas_[i];
   }
@@ -98,6 +87,18 @@ class Replicas : public ::testing::Test {
     ADD_FAILURE() << job << " was never claimed";
     return "";
   }
+  // Both replicas started, and the large pair's job submitted through the first: the job
+  // and the replica that claimed it ("" when the submit failed).
+  std::pair<std::string, int> large_job_on_two_replicas() {
+    ServerProcess& first = start_replica(0);
+    start_replica(1);
+    const CommandRun submit =
+        first.client("submit " + path("large.ply").string() + " " + path("large_moved.ply").string() + " --json");
+    EXPECT_EQ(submit.exit_code, 0) << submit.err;
+    const std::string job = last_json(submit).value("name", "");
+    if (job.empty()) return {"", 0};
+    return {job, wait_until_claimed(job) == replica_id(0) ? 0 : 1};
+  }
   static json wait_done(const ServerProcess& replica, const std::string& job) {
     return last_json(replica.client("wait " + job + " --timeout 600 --json"));
   }
@@ -112,15 +113,10 @@ class Replicas : public ::testing::Test {
     return slurp_file(map) + slurp_file(reverse) + slurp_file(report);
   }
 
-  CommandRun sql(const std::string& statement) const { return postgres_->sql(database_, statement); }
-
   static fs::path* dir_;
-  static LoopbackPostgres* postgres_;
-  std::string database_;
   std::unique_ptr<ServerProcess> replicas_[2];
 };
 fs::path* Replicas::dir_ = nullptr;
-LoopbackPostgres* Replicas::postgres_ = nullptr;
 
 TEST_F(Replicas, AnyReplicaServesAnyCallAndAKilledReplicasJobCompletesOnTheOther) {
   ServerProcess& first = start_replica(0);
@@ -177,16 +173,25 @@ TEST_F(Replicas, AnyReplicaServesAnyCallAndAKilledReplicasJobCompletesOnTheOther
   EXPECT_EQ(sha256_hex(download(*replicas_[survivor], long_job, "long_survivor")), sha256_hex(long_result));
 }
 
+TEST_F(Replicas, AStoppingReplicaHandsItsRunningJobToAnotherAtOnce) {
+  const auto [job, stopping] = large_job_on_two_replicas();
+  ASSERT_FALSE(job.empty());
+  const int other = 1 - stopping;
+  EXPECT_EQ(replicas_[stopping]->terminate(), 0);
+  const json done = wait_done(*replicas_[other], job);
+  EXPECT_EQ(done.value("state", ""), "SUCCEEDED") << done.dump();
+  // Queued again by the stopping replica, so its start was not counted as a crash, and
+  // run to the end by the other one.
+  EXPECT_EQ(done.value("attempts", 0), 1) << done.dump();
+  EXPECT_NE(slurp_file(replicas_[other]->log_path()).find("[job " + job.substr(5) + "] running on replica"),
+            std::string::npos);
+}
+
 TEST_F(Replicas, CancelReachesTheJobThroughAnyReplica) {
-  ServerProcess& first = start_replica(0);
-  start_replica(1);
-  const CommandRun submit =
-      first.client("submit " + path("large.ply").string() + " " + path("large_moved.ply").string() + " --json");
-  ASSERT_EQ(submit.exit_code, 0) << submit.err;
-  const std::string job = last_json(submit)["name"];
-  const std::string holder = wait_until_claimed(job);
+  const auto [job, holder] = large_job_on_two_replicas();
+  ASSERT_FALSE(job.empty());
   // Cancelled through the replica that does not run it.
-  const ServerProcess& other = holder == replica_id(0) ? *replicas_[1] : *replicas_[0];
+  const ServerProcess& other = *replicas_[1 - holder];
   const CommandRun cancel = other.client("cancel " + job + " --json");
   ASSERT_EQ(cancel.exit_code, 0) << cancel.err;
   EXPECT_EQ(wait_done(other, job).value("state", ""), "CANCELLED");
