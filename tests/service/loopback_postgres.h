@@ -1,6 +1,6 @@
 // A throw-away PostgreSQL server for the replica tests: initdb into a temporary directory,
-// postgres on a free loopback port (its unix socket in that directory too), stopped and
-// removed at the end. Uses Debian's binaries in /usr/lib/postgresql/<version>/bin. As
+// postgres on a free loopback port and a unix socket in that directory (which the clients
+// use), stopped and removed at the end. Uses Debian's binaries in /usr/lib/postgresql/<version>/bin. As
 // initdb and postgres refuse to run as root, under root they run as the user `nobody`
 // (runuser), owning the temporary directory.
 #pragma once
