@@ -19,7 +19,8 @@ void add_server_flags(CLI::App& app, ServerOptions& o) {
                  "with --store: a running job's lease, renewed by its replica; another replica takes the job "
                  "over this long after its replica died")
       ->check(CLI::Range(0.2, 3600.0))->capture_default_str();
-  app.add_option("--replica-id", o.replica_id, "with --store: this replica's name in the job queue (default HOST-PID)");
+  app.add_option("--replica-id", o.replica_id, "with --store: this replica's name in the job queue, unique per running server (default "
+                 "HOST-PID-RANDOM)");
   app.add_option("--threads", o.threads, "jobs run at once (worker threads)")->check(CLI::Range(1, 256))->capture_default_str();
   app.add_option("--cache-bytes", o.cache_bytes, "memory for preprocessed meshes shared by jobs (LRU)")->capture_default_str();
   app.add_option("--max-mesh-bytes", o.max_mesh_bytes, "largest mesh file accepted by UploadMesh")->capture_default_str();

@@ -10,15 +10,18 @@
 #include "postgres/pg_job_store.h"
 #include "postgres/pg_mesh_store.h"
 #include "storage/job_journal.h"
+#include "storage/job_record.h"
 #include "storage/mesh_store.h"
 
 namespace isocorr::server {
 namespace {
 
+// Unique per process even where host names and pids repeat (containers restarted in one
+// pod are all pid 1): a replica must never renew or end another live replica's jobs.
 std::string default_replica_id() {
   char host[256] = {};
   gethostname(host, sizeof host - 1);
-  return std::string(host) + "-" + std::to_string(getpid());
+  return std::string(host) + "-" + std::to_string(getpid()) + "-" + new_job_id().substr(0, 6);
 }
 
 }  // namespace
