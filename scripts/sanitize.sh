@@ -9,7 +9,8 @@
 # CLI's match tests (the same threaded pipeline as MatcherOnBlob, at several times its cost),
 # the thread-count comparison (the pipeline once more on one thread: over 10 minutes) and the
 # single-threaded cleaning speed test, whose 1 s budget TSan's slowdown exceeds, and the
-# tests that start the server and CLI processes (Service, ApiLimits, Faults, Observability): there TSan
+# tests that start the server and CLI processes (Service, ApiLimits, Faults, Observability,
+# Replicas): there TSan
 # reports races inside gRPC's inline headers and threads (byte_buffer.h, callback
 # handlers' std::function, grpc_core::Thread) that Debian's uninstrumented gRPC makes
 # invisible to it, seen in 1 CI run of 2; suppressing them would need patterns broad
@@ -24,7 +25,7 @@ skipped='RealData|GroundTruthRealData'
 case "$kind" in
   asan) sanitizers=address,undefined ;;
   tsan) sanitizers=thread; skipped="$skipped|MatchCommand|MatcherOnBlob[.]ResultDoesNotDependOnThreadCount"
-        skipped="$skipped|MeshCleaning[.]CleansSixtyThousandVerticesQuickly|Service|ApiLimits|Faults|Observability" ;;
+        skipped="$skipped|MeshCleaning[.]CleansSixtyThousandVerticesQuickly|Service|ApiLimits|Faults|Observability|Replicas" ;;
   *) echo "sanitize: unknown kind '$kind' (asan or tsan)" >&2; exit 2 ;;
 esac
 build="$here/build-$kind"

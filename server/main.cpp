@@ -1,5 +1,6 @@
 // `isocorr-server`: the gRPC service (isocorr.v1) over the engine, with a durable store
-// under --data-dir, a shared cache of preprocessed meshes and a pool of job workers.
+// under --data-dir (or shared with other replicas in PostgreSQL, --store), a cache of
+// preprocessed meshes and a pool of job workers.
 #include <pthread.h>
 #include <signal.h>
 
@@ -17,14 +18,12 @@
 #include "api/job_service.h"
 #include "api/mesh_service.h"
 #include "api/upload_budget.h"
-#include "jobs/job_manager.h"
 #include "jobs/shape_cache.h"
 #include "metrics/live_metrics.h"
 #include "metrics/metrics_endpoint.h"
 #include "server_options.h"
+#include "store.h"
 #include "storage/durable_file.h"
-#include "storage/job_journal.h"
-#include "storage/mesh_store.h"
 
 namespace isocorr::server {
 namespace {
@@ -70,11 +69,10 @@ int run(const ServerOptions& options) {
     throw std::runtime_error("--max-upload-bytes-in-flight must be at least --max-mesh-bytes, or no mesh of the "
                              "largest size could be uploaded");
   const TokenAuth auth(options.token_file.empty() ? "" : read_secret(options.token_file, "token file"));
-  std::filesystem::create_directories(options.data_dir);
-  MeshStore meshes(options.data_dir, options.max_mesh_bytes);
-  JobJournal journal(options.data_dir);
   ShapeCache cache(options.cache_bytes);
-  JobManager jobs({options.threads, options.max_queued_jobs, options.max_attempts}, meshes, journal, cache);
+  const std::unique_ptr<Store> store = open_store(options, cache);
+  MeshRepository& meshes = *store->meshes;
+  JobCoordinator& jobs = *store->jobs;
   jobs.recover_and_start();
   std::unique_ptr<MetricsEndpoint> metrics;
   if (!options.metrics_listen.empty()) {
@@ -107,7 +105,7 @@ int run(const ServerOptions& options) {
   const std::string host = options.listen.substr(0, options.listen.rfind(':'));
   spdlog::info("isocorr-server listening on {}:{} ({}, {}), data in {}, {} worker(s)", host, port,
                options.tls_cert.empty() ? "plaintext" : "TLS", auth.enabled() ? "bearer token" : "no auth",
-               options.data_dir, options.threads);
+               options.store.empty() ? options.data_dir : "the shared PostgreSQL store", options.threads);
   // Absolute, so that a bare file name has a directory to sync.
   if (!options.port_file.empty())
     write_file_durably(options.port_file, std::to_string(port) + "\n");

@@ -7,6 +7,20 @@ namespace isocorr::server {
 void add_server_flags(CLI::App& app, ServerOptions& o) {
   app.add_option("--listen", o.listen, "HOST:PORT to listen on (port 0 picks a free one)")->capture_default_str();
   app.add_option("--data-dir", o.data_dir, "directory of the durable store (meshes, jobs, results)")->capture_default_str();
+  app.add_option("--store", o.store,
+                 "postgresql://USER@HOST/DB (a libpq connection URI): keep meshes, jobs and results in this "
+                 "PostgreSQL database, shared by every replica given the same URI; --data-dir is then unused")
+      ->check([](const std::string& uri) {
+        return uri.rfind("postgresql://", 0) == 0 || uri.rfind("postgres://", 0) == 0
+                   ? std::string()
+                   : std::string("--store takes a postgresql:// URI");
+      });
+  app.add_option("--lease-seconds", o.lease_seconds,
+                 "with --store: a running job's lease, renewed by its replica; another replica takes the job "
+                 "over this long after its replica died")
+      ->check(CLI::Range(0.2, 3600.0))->capture_default_str();
+  app.add_option("--replica-id", o.replica_id, "with --store: this replica's name in the job queue, unique per running server (default "
+                 "HOST-PID-RANDOM)");
   app.add_option("--threads", o.threads, "jobs run at once (worker threads)")->check(CLI::Range(1, 256))->capture_default_str();
   app.add_option("--cache-bytes", o.cache_bytes, "memory for preprocessed meshes shared by jobs (LRU)")->capture_default_str();
   app.add_option("--max-mesh-bytes", o.max_mesh_bytes, "largest mesh file accepted by UploadMesh")->capture_default_str();

@@ -13,6 +13,11 @@ namespace isocorr::server {
 struct ServerOptions {
   std::string listen = "127.0.0.1:50051";  // loopback unless asked otherwise
   std::string data_dir = "isocorr-data";
+  // Empty: meshes, jobs and results live under data_dir. postgresql://...: in that shared
+  // database, so that several replicas serve the same store.
+  std::string store;
+  double lease_seconds = 30;                // a running job's lease in the shared store
+  std::string replica_id;                   // claimed_by of this replica's jobs (default host-pid-random)
   int threads = 1;                          // jobs run at once; each uses all cores (engine default)
   int64_t cache_bytes = int64_t{2} << 30;   // preprocessed meshes kept in memory
   int64_t max_mesh_bytes = int64_t{512} << 20;

@@ -160,7 +160,7 @@ grpc::Status JobServiceImpl::DownloadResult(grpc::ServerContext* context, const 
       parts.push_back(*part);
     }
     if (parts.empty()) parts.assign(kAllResultParts.begin(), kAllResultParts.end());
-    const JobJournal& journal = jobs_.journal();
+    const ResultReader& results = jobs_.results();
     auto add_index = [](v1::ResultChunk& chunk, int value) { chunk.add_indices(value); };
     auto add_value = [](v1::ResultChunk& chunk, float value) { chunk.add_values(value); };
     for (const ResultPart part : parts) {
@@ -169,14 +169,14 @@ grpc::Status JobServiceImpl::DownloadResult(grpc::ServerContext* context, const 
       switch (part) {
         case ResultPart::kForwardMap:
         case ResultPart::kReverseMap:
-          written = stream_elements(*writer, proto_part, journal.read_map(id, part), add_index);
+          written = stream_elements(*writer, proto_part, results.read_map(id, part), add_index);
           break;
         case ResultPart::kForwardConfidence:
         case ResultPart::kReverseConfidence:
-          written = stream_elements(*writer, proto_part, journal.read_confidence(id, part), add_value);
+          written = stream_elements(*writer, proto_part, results.read_confidence(id, part), add_value);
           break;
         case ResultPart::kReport: {
-          const std::string report = journal.read_report(id);
+          const std::string report = results.read_report(id);
           for (size_t offset = 0; written && (offset < report.size() || offset == 0);
                offset += kReportBytesPerChunk) {
             v1::ResultChunk chunk;

@@ -1,17 +1,17 @@
-// isocorr.v1.JobService: translates requests to the job manager and the journal's results.
+// isocorr.v1.JobService: translates requests to the jobs and their stored results.
 #pragma once
 
 #include <atomic>
 
 #include "api/auth.h"
 #include "isocorr/v1/isocorr.grpc.pb.h"
-#include "jobs/job_manager.h"
+#include "jobs/job_coordinator.h"
 
 namespace isocorr::server {
 
 class JobServiceImpl final : public v1::JobService::Service {
  public:
-  JobServiceImpl(JobManager& jobs, const TokenAuth& auth) : jobs_(jobs), auth_(auth) {}
+  JobServiceImpl(JobCoordinator& jobs, const TokenAuth& auth) : jobs_(jobs), auth_(auth) {}
 
   grpc::Status CreateMatchJob(grpc::ServerContext* context, const v1::CreateMatchJobRequest* request,
                               v1::Job* response) override;
@@ -30,7 +30,7 @@ class JobServiceImpl final : public v1::JobService::Service {
   void stop_long_calls() { stopping_ = true; }
 
  private:
-  JobManager& jobs_;
+  JobCoordinator& jobs_;
   const TokenAuth& auth_;
   std::atomic<bool> stopping_{false};
 };

@@ -4,15 +4,15 @@
 #include "api/auth.h"
 #include "api/upload_budget.h"
 #include "isocorr/v1/isocorr.grpc.pb.h"
-#include "jobs/job_manager.h"
+#include "jobs/job_coordinator.h"
 #include "jobs/shape_cache.h"
-#include "storage/mesh_store.h"
+#include "storage/mesh_repository.h"
 
 namespace isocorr::server {
 
 class MeshServiceImpl final : public v1::MeshService::Service {
  public:
-  MeshServiceImpl(MeshStore& meshes, ShapeCache& cache, JobManager& jobs, UploadBudget& upload_budget,
+  MeshServiceImpl(MeshRepository& meshes, ShapeCache& cache, JobCoordinator& jobs, UploadBudget& upload_budget,
                   const TokenAuth& auth)
       : meshes_(meshes), cache_(cache), jobs_(jobs), upload_budget_(upload_budget), auth_(auth) {}
 
@@ -27,9 +27,9 @@ class MeshServiceImpl final : public v1::MeshService::Service {
  private:
   MeshInfo require(const std::string& name) const;
 
-  MeshStore& meshes_;
+  MeshRepository& meshes_;
   ShapeCache& cache_;
-  JobManager& jobs_;
+  JobCoordinator& jobs_;
   UploadBudget& upload_budget_;
   const TokenAuth& auth_;
 };

@@ -1,6 +1,9 @@
 #include "jobs/job_execution.h"
 
+#include <spdlog/spdlog.h>
+
 #include "isocorr/mesh/mesh_io.h"
+#include "isocorr/util/error.h"
 
 namespace isocorr::server {
 
@@ -16,7 +19,7 @@ std::shared_ptr<const PreprocessedShape> CachedShapeProvider::shape(ShapeRole ro
       return cache_.get_or_build(key, [&] {
         // Read here, when the cache builds, so the bytes are checked against the digest
         // (ServiceError kDataLoss) before any shape is made of them.
-        const MeshStore::StoredMesh stored = meshes_.read(digest);
+        const MeshRepository::StoredMesh stored = meshes_.read(digest);
         const LoadedMesh loaded = parse_mesh(stored.bytes, stored.info.filename);
         return PreprocessedShape::build(loaded.mesh, options, build_control);
       });
@@ -27,9 +30,55 @@ std::shared_ptr<const PreprocessedShape> CachedShapeProvider::shape(ShapeRole ro
   }
 }
 
-MatchResult execute_match_job(const JobRecord& job, MeshStore& meshes, ShapeCache& cache, const JobControl& control) {
+MatchResult execute_match_job(const JobRecord& job, MeshRepository& meshes, ShapeCache& cache, const JobControl& control) {
   CachedShapeProvider shapes(job, meshes, cache);
   return run_match(shapes, job.settings, control);
+}
+
+ErrorCode error_code_for(ServiceError::Kind kind) {
+  using Kind = ServiceError::Kind;
+  switch (kind) {
+    case Kind::kDataLoss: return ErrorCode::kDataLoss;
+    case Kind::kResourceExhausted: return ErrorCode::kResourceExhausted;
+    case Kind::kNotFound: return ErrorCode::kNotFound;
+    case Kind::kInvalidArgument: return ErrorCode::kInvalidArgument;
+    default: return ErrorCode::kInternal;
+  }
+}
+
+JobRecord run_to_conclusion(const JobRecord& job, MeshRepository& meshes, ShapeCache& cache, const JobControl& control,
+                            const std::function<void(const MatchOutput&)>& store_result) {
+  JobRecord final_record = job;
+  try {
+    const MatchResult result = execute_match_job(job, meshes, cache, control);
+    try {
+      store_result(result.output);
+    } catch (const ServiceError& e) {
+      throw ServiceError(e.kind(), std::string("cannot store the result: ") + e.what());
+    }
+    final_record.state = JobState::kSucceeded;
+    final_record.summary = result.summary();
+    final_record.progress = {"done", 0, 0, 1.0};
+    spdlog::info("[{}] succeeded: D_iso {:.4f}", job_tag(job), final_record.summary.diso);
+  } catch (const Cancelled&) {
+    throw;
+  } catch (const InputError& e) {
+    final_record.state = JobState::kFailed;
+    final_record.error_code = ErrorCode::kInvalidArgument;
+    final_record.error_message = e.what();
+    spdlog::warn("[{}] failed: {}", job_tag(job), e.what());
+  } catch (const ServiceError& e) {  // a corrupted mesh (DATA_LOSS), a full disk
+    final_record.state = JobState::kFailed;
+    final_record.error_code = error_code_for(e.kind());
+    final_record.error_message = e.what();
+    spdlog::error("[{}] failed: {}", job_tag(job), e.what());
+  } catch (const std::exception& e) {
+    final_record.state = JobState::kFailed;
+    final_record.error_code = ErrorCode::kInternal;
+    final_record.error_message = std::string("internal error: ") + e.what();
+    spdlog::error("[{}] failed: {}", job_tag(job), e.what());
+  }
+  return final_record;
 }
 
 }  // namespace isocorr::server

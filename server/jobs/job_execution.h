@@ -2,10 +2,13 @@
 // mesh store through the shared shape cache. Nothing else: the pipeline is core's.
 #pragma once
 
+#include <functional>
+
 #include "isocorr/matching/pipeline.h"
 #include "jobs/shape_cache.h"
 #include "storage/job_record.h"
-#include "storage/mesh_store.h"
+#include "service_error.h"
+#include "storage/mesh_repository.h"
 
 namespace isocorr::server {
 
@@ -13,20 +16,29 @@ namespace isocorr::server {
 // whichever job asks first; concurrent jobs wait for the same build.
 class CachedShapeProvider : public ShapeProvider {
  public:
-  CachedShapeProvider(const JobRecord& job, MeshStore& meshes, ShapeCache& cache)
+  CachedShapeProvider(const JobRecord& job, MeshRepository& meshes, ShapeCache& cache)
       : job_(job), meshes_(meshes), cache_(cache) {}
   std::shared_ptr<const PreprocessedShape> shape(ShapeRole role, const PreprocessOptions& options,
                                                  const JobControl& control) override;
 
  private:
   const JobRecord& job_;
-  MeshStore& meshes_;
+  MeshRepository& meshes_;
   ShapeCache& cache_;
 };
 
 // Throws InputError (unusable mesh or settings, or a mesh deleted before the job ran),
 // Cancelled (control's flag), ServiceError(kDataLoss) for a corrupted stored mesh, or
 // anything else for internal failures.
-MatchResult execute_match_job(const JobRecord& job, MeshStore& meshes, ShapeCache& cache, const JobControl& control);
+MatchResult execute_match_job(const JobRecord& job, MeshRepository& meshes, ShapeCache& cache, const JobControl& control);
+
+// The job's error code for a store's ServiceError.
+ErrorCode error_code_for(ServiceError::Kind kind);
+
+// Runs `job` and returns its final record: SUCCEEDED with the summary once `store_result`
+// has stored the output, or FAILED with the error code and reason (end time not yet set).
+// Cancelled propagates: the caller knows whether a cancel or a shutdown asked for it.
+JobRecord run_to_conclusion(const JobRecord& job, MeshRepository& meshes, ShapeCache& cache, const JobControl& control,
+                            const std::function<void(const MatchOutput&)>& store_result);
 
 }  // namespace isocorr::server

@@ -1,7 +1,6 @@
 #include "jobs/job_manager.h"
 
 #include <algorithm>
-#include <random>
 
 #include <spdlog/spdlog.h>
 
@@ -15,33 +14,13 @@ using Kind = ServiceError::Kind;
 
 namespace {
 
-std::string new_job_id() {
-  static std::mutex mutex;
-  static std::mt19937_64 generator{std::random_device{}()};
-  std::lock_guard lock(mutex);
-  static const char* hex = "0123456789abcdef";
-  std::string id;
-  for (uint64_t bits = generator(), i = 0; i < 16; ++i, bits >>= 4) id += hex[bits & 15];
-  return id;
-}
-
 // A queued job whose start cannot be recorded (full disk) is tried again this often, and
 // shows this stage meanwhile.
 constexpr auto kDiskRetryInterval = std::chrono::seconds(2);
 constexpr const char* kWaitingForDisk = "waiting for disk space";
 
-ErrorCode error_code_for(ServiceError::Kind kind) {
-  switch (kind) {
-    case Kind::kDataLoss: return ErrorCode::kDataLoss;
-    case Kind::kResourceExhausted: return ErrorCode::kResourceExhausted;
-    case Kind::kNotFound: return ErrorCode::kNotFound;
-    case Kind::kInvalidArgument: return ErrorCode::kInvalidArgument;
-    default: return ErrorCode::kInternal;
-  }
-}
-
 // A job's meshes as recovery finds them: fails `record` when one is gone or corrupted.
-bool fail_if_mesh_missing(MeshStore& meshes, JobRecord& record) {
+bool fail_if_mesh_missing(MeshRepository& meshes, JobRecord& record) {
   try {
     if (meshes.describe(record.source_digest) && meshes.describe(record.target_digest)) return false;
     record.error_code = ErrorCode::kNotFound;
@@ -55,17 +34,9 @@ bool fail_if_mesh_missing(MeshStore& meshes, JobRecord& record) {
   return true;
 }
 
-void record_duration_metrics(const JobRecord& job) {
-  ServerMetrics& metrics = server_metrics();
-  if (job.start_time_ms > 0)
-    metrics.job_duration.with({job_state_name(job.state)}).observe((job.end_time_ms - job.start_time_ms) / 1000.0);
-  if (job.state == JobState::kSucceeded)
-    for (const StageTiming& timing : job.summary.timings) metrics.stage_duration.with({timing.stage}).observe(timing.seconds);
-}
-
 }  // namespace
 
-JobManager::JobManager(JobManagerOptions options, MeshStore& meshes, JobJournal& journal, ShapeCache& cache)
+JobManager::JobManager(JobManagerOptions options, MeshRepository& meshes, JobJournal& journal, ShapeCache& cache)
     : options_(options), meshes_(meshes), journal_(journal), cache_(cache) {}
 
 JobManager::~JobManager() { shutdown(); }
@@ -120,14 +91,7 @@ void JobManager::shutdown() {
 
 JobRecord JobManager::create(const std::string& source_digest, const std::string& target_digest,
                              const MatchSettings& settings, const std::string& request_id) {
-  try {
-    settings.validate();
-  } catch (const InputError& e) {
-    throw ServiceError(Kind::kInvalidArgument, std::string("settings: ") + e.what());
-  }
-  for (const std::string* digest : {&source_digest, &target_digest})
-    if (!meshes_.describe(*digest))
-      throw ServiceError(Kind::kNotFound, "no mesh meshes/" + *digest + " on this server; upload it first");
+  check_new_job(meshes_, source_digest, target_digest, settings);
 
   std::lock_guard lock(mutex_);
   if (stopping_) throw ServiceError(Kind::kUnavailable, "the server is shutting down; retry on its next start");
@@ -280,18 +244,10 @@ void JobManager::run(Slot& slot) {
     spdlog::debug("[{}] {} level {}/{} {:.0f}%", job_tag(job), p.stage, p.level, p.levels, 100 * p.fraction);
   };
 
-  JobRecord final_record = job;
+  JobRecord final_record;
   try {
-    const MatchResult result = execute_match_job(job, meshes_, cache_, control);
-    try {
-      journal_.save_result(job.id, result.output);
-    } catch (const ServiceError& e) {
-      throw ServiceError(e.kind(), std::string("cannot store the result: ") + e.what());
-    }
-    final_record.state = JobState::kSucceeded;
-    final_record.summary = result.summary();
-    final_record.progress = {"done", 0, 0, 1.0};
-    spdlog::info("[{}] succeeded: D_iso {:.4f}", job_tag(job), final_record.summary.diso);
+    final_record = run_to_conclusion(job, meshes_, cache_, control,
+                                     [&](const MatchOutput& output) { journal_.save_result(job.id, output); });
   } catch (const Cancelled&) {
     std::unique_lock lock(mutex_);
     if (stopping_) {
@@ -311,25 +267,11 @@ void JobManager::run(Slot& slot) {
       return;
     }
     lock.unlock();
+    final_record = job;
     final_record.state = JobState::kCancelled;
     final_record.error_code = ErrorCode::kCancelled;
     final_record.error_message = "cancelled while running";
     spdlog::info("[{}] cancelled", job_tag(job));
-  } catch (const InputError& e) {
-    final_record.state = JobState::kFailed;
-    final_record.error_code = ErrorCode::kInvalidArgument;
-    final_record.error_message = e.what();
-    spdlog::warn("[{}] failed: {}", job_tag(job), e.what());
-  } catch (const ServiceError& e) {  // a corrupted mesh (DATA_LOSS), a full disk
-    final_record.state = JobState::kFailed;
-    final_record.error_code = error_code_for(e.kind());
-    final_record.error_message = e.what();
-    spdlog::error("[{}] failed: {}", job_tag(job), e.what());
-  } catch (const std::exception& e) {
-    final_record.state = JobState::kFailed;
-    final_record.error_code = ErrorCode::kInternal;
-    final_record.error_message = std::string("internal error: ") + e.what();
-    spdlog::error("[{}] failed: {}", job_tag(job), e.what());
   }
   finish(slot, std::move(final_record));
 }
@@ -355,7 +297,7 @@ void JobManager::finish(Slot& slot, JobRecord final_record) {
       final_record.error_message += "; " + not_recorded;
     }
   }
-  record_duration_metrics(final_record);
+  record_job_durations(final_record);
   slot.record = std::move(final_record);
   publish_locked(slot);
 }

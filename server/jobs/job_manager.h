@@ -24,8 +24,9 @@
 #include <thread>
 #include <vector>
 
-#include "storage/job_record.h"
+#include "jobs/job_coordinator.h"
 #include "jobs/shape_cache.h"
+#include "storage/job_record.h"
 #include "storage/job_journal.h"
 #include "storage/mesh_store.h"
 
@@ -37,37 +38,26 @@ struct JobManagerOptions {
   int max_attempts = 3;       // starts before an interrupted job is given up
 };
 
-class JobManager {
+class JobManager final : public JobCoordinator {
  public:
-  JobManager(JobManagerOptions options, MeshStore& meshes, JobJournal& journal, ShapeCache& cache);
-  ~JobManager();
+  JobManager(JobManagerOptions options, MeshRepository& meshes, JobJournal& journal, ShapeCache& cache);
+  ~JobManager() override;
 
   // Reads the journal, re-queues unfinished jobs and starts the workers.
-  void recover_and_start();
+  void recover_and_start() override;
   // Stops the workers; running jobs go back to QUEUED in the journal.
-  void shutdown();
+  void shutdown() override;
 
-  // Durable when it returns. Throws ServiceError (kNotFound, kInvalidArgument,
-  // kResourceExhausted, kUnavailable while shutting down).
-  // `request_id` is the creating call's, kept in the record and named by the job's log lines.
-  JobRecord create(const std::string& source_digest, const std::string& target_digest, const MatchSettings& settings,
-                   const std::string& request_id = "");
-  JobRecord get(const std::string& id) const;  // throws ServiceError(kNotFound)
-  std::vector<JobRecord> list() const;         // oldest first
-  // A queued job ends CANCELLED at once, a running one at the engine's next safe point.
-  JobRecord cancel(const std::string& id);
-  // Returns as soon as the job's version differs from `seen_version` or it is final, or at
-  // `deadline` with the job as it is.
+  JobRecord create(const std::string& source_digest, const std::string& target_digest,
+                   const MatchSettings& settings, const std::string& request_id) override;
+  JobRecord get(const std::string& id) const override;
+  std::vector<JobRecord> list() const override;
+  JobRecord cancel(const std::string& id) override;
   JobRecord wait_for_change(const std::string& id, uint64_t seen_version,
-                            std::chrono::steady_clock::time_point deadline) const;
-  bool mesh_in_use(const std::string& digest) const;
-
-  struct Census {
-    std::map<JobState, int> by_state;
-    size_t queue_length = 0;  // jobs waiting for a worker
-  };
-  Census census() const;  // for the metrics endpoint
-  JobJournal& journal() { return journal_; }
+                            std::chrono::steady_clock::time_point deadline) const override;
+  bool mesh_in_use(const std::string& digest) const override;
+  const ResultReader& results() const override { return journal_; }
+  Census census() const override;
 
  private:
   struct Slot {
@@ -81,7 +71,7 @@ class JobManager {
   void publish_locked(Slot& slot);
 
   const JobManagerOptions options_;
-  MeshStore& meshes_;
+  MeshRepository& meshes_;
   JobJournal& journal_;
   ShapeCache& cache_;
 

@@ -4,15 +4,15 @@
 
 namespace isocorr::server {
 
-void write_live_metrics(metrics::ExpositionWriter& out, const JobManager& jobs, const ShapeCache& cache) {
-  const JobManager::Census census = jobs.census();
-  out.family("isocorr_jobs", "Jobs the server knows, by state", "gauge");
+void write_live_metrics(metrics::ExpositionWriter& out, const JobCoordinator& jobs, const ShapeCache& cache) {
+  const JobCoordinator::Census census = jobs.census();
+  out.family("isocorr_jobs", "Jobs the server knows (with --store, those of all replicas), by state", "gauge");
   for (JobState state : {JobState::kQueued, JobState::kRunning, JobState::kSucceeded, JobState::kFailed,
                          JobState::kCancelled}) {
     const auto it = census.by_state.find(state);
     out.sample("isocorr_jobs", {"state"}, {job_state_name(state)}, it == census.by_state.end() ? 0 : it->second);
   }
-  out.family("isocorr_job_queue_length", "Jobs waiting for a worker", "gauge");
+  out.family("isocorr_job_queue_length", "Jobs waiting for a worker (with --store, QUEUED jobs in the queue all replicas share)", "gauge");
   out.sample("isocorr_job_queue_length", static_cast<double>(census.queue_length));
 
   const ShapeCache::Stats stats = cache.stats();
@@ -31,7 +31,7 @@ void write_live_metrics(metrics::ExpositionWriter& out, const JobManager& jobs, 
   out.sample("isocorr_shape_cache_entries", static_cast<double>(stats.entries));
 }
 
-std::string metrics_text(const JobManager& jobs, const ShapeCache& cache) {
+std::string metrics_text(const JobCoordinator& jobs, const ShapeCache& cache) {
   metrics::ExpositionWriter out;
   server_metrics().registry.write(out);
   write_live_metrics(out, jobs, cache);

@@ -28,4 +28,12 @@ ServerMetrics& server_metrics() {
   return metrics;
 }
 
+void record_job_durations(const JobRecord& job) {
+  ServerMetrics& metrics = server_metrics();
+  if (job.start_time_ms > 0)
+    metrics.job_duration.with({job_state_name(job.state)}).observe((job.end_time_ms - job.start_time_ms) / 1000.0);
+  if (job.state == JobState::kSucceeded)
+    for (const StageTiming& timing : job.summary.timings) metrics.stage_duration.with({timing.stage}).observe(timing.seconds);
+}
+
 }  // namespace isocorr::server

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "metrics/metrics_registry.h"
+#include "storage/job_record.h"
 
 namespace isocorr::server {
 
@@ -18,5 +19,8 @@ struct ServerMetrics {
 };
 
 ServerMetrics& server_metrics();
+
+// Records an ended job's duration and, when it succeeded, its stages' (whichever store ran it).
+void record_job_durations(const JobRecord& job);
 
 }  // namespace isocorr::server

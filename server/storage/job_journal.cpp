@@ -3,11 +3,9 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
-#include <cstring>
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "isocorr/util/sha256.h"
 #include "service_error.h"
 #include "storage/durable_file.h"
 #include "storage/job_record_json.h"
@@ -28,22 +26,7 @@ std::string part_file(ResultPart part) {
   return std::string(result_part_name(part)) + extension;
 }
 
-template <typename T>
-std::string to_bytes(const std::vector<T>& values) {  // little-endian hosts only (x86-64, arm64)
-  std::string bytes(values.size() * sizeof(T), '\0');
-  if (!values.empty()) std::memcpy(bytes.data(), values.data(), bytes.size());
-  return bytes;
-}
-
-
 constexpr const char* kManifestFile = "manifest.json";
-
-template <typename T>
-std::vector<T> from_bytes(const std::string& bytes) {
-  std::vector<T> values(bytes.size() / sizeof(T));
-  if (!values.empty()) std::memcpy(values.data(), bytes.data(), values.size() * sizeof(T));
-  return values;
-}
 
 }  // namespace
 
@@ -68,23 +51,7 @@ void JobJournal::adopt_results_without_manifest() {
       for (const ResultPart part : {ResultPart::kForwardMap, ResultPart::kReverseMap, ResultPart::kForwardConfidence,
                                     ResultPart::kReverseConfidence, ResultPart::kReport})
         bytes[part] = read_whole_file(dir / part_file(part));
-      const std::vector<int> forward = from_bytes<int>(bytes[ResultPart::kForwardMap]);
-      const std::vector<int> reverse = from_bytes<int>(bytes[ResultPart::kReverseMap]);
-      // Without digests only the structure can be checked: whole int32/float32 arrays, one
-      // confidence per map entry, every index inside the other map's length.
-      bool whole = forward.size() * sizeof(int) == bytes[ResultPart::kForwardMap].size() &&
-                   reverse.size() * sizeof(int) == bytes[ResultPart::kReverseMap].size() &&
-                   bytes[ResultPart::kForwardConfidence].size() == forward.size() * sizeof(float) &&
-                   bytes[ResultPart::kReverseConfidence].size() == reverse.size() * sizeof(float);
-      for (const int index : forward) whole = whole && index >= 0 && index < static_cast<int64_t>(reverse.size());
-      for (const int index : reverse) whole = whole && index >= 0 && index < static_cast<int64_t>(forward.size());
-      if (!whole) throw std::runtime_error("its parts do not fit together");
-      json parts = json::object();
-      for (const auto& [part, content] : bytes)
-        parts[std::string(result_part_name(part))] = {{"bytes", content.size()}, {"sha256", sha256_hex(content)}};
-      write_file_durably(dir / kManifestFile, seal_json({{"source_vertices", forward.size()},
-                                                         {"target_vertices", reverse.size()},
-                                                         {"parts", parts}}));
+      write_file_durably(dir / kManifestFile, seal_json(manifest_of_unchecked_parts(bytes)));
       spdlog::info("[job {}] result stored before manifests existed: structure checked, manifest written", id);
     } catch (const ServiceError&) {
       throw;  // the disk is full: leave the result as it is for the next start
@@ -143,20 +110,9 @@ void JobJournal::save_result(const std::string& id, const MatchOutput& result) {
       fs::remove_all(temp_dir);
       fs::create_directories(temp_dir);
     });
-    json parts = json::object();
-    auto write_part = [&](ResultPart part, const std::string& bytes) {
-      write_file_durably(temp_dir / part_file(part), bytes);
-      parts[std::string(result_part_name(part))] = {{"bytes", bytes.size()}, {"sha256", sha256_hex(bytes)}};
-    };
-    write_part(ResultPart::kForwardMap, to_bytes(result.forward));
-    write_part(ResultPart::kReverseMap, to_bytes(result.reverse));
-    write_part(ResultPart::kForwardConfidence, to_bytes(result.forward_confidence));
-    write_part(ResultPart::kReverseConfidence, to_bytes(result.reverse_confidence));
-    write_part(ResultPart::kReport, result.report_json);
-    const json manifest = {{"source_vertices", result.forward.size()},
-                           {"target_vertices", result.reverse.size()},
-                           {"parts", parts}};
-    write_file_durably(temp_dir / kManifestFile, seal_json(manifest));
+    const EncodedResult encoded = encode_result(result);
+    for (const auto& [part, bytes] : encoded.parts) write_file_durably(temp_dir / part_file(part), bytes);
+    write_file_durably(temp_dir / kManifestFile, seal_json(encoded.manifest));
     guard_storage_write("cannot move into place", final_dir, [&] {
       fs::remove_all(final_dir);
       fs::rename(temp_dir, final_dir);
@@ -197,38 +153,12 @@ std::string JobJournal::read_checked_part(const std::string& id, ResultPart part
     result_lost(id, name + " is missing");
   }
   try {
-    const json& expected = manifest.at("parts").at(name);
-    if (bytes.size() != expected.at("bytes").get<size_t>())
-      result_lost(id, name + " has " + std::to_string(bytes.size()) + " bytes, not " +
-                          std::to_string(expected.at("bytes").get<size_t>()));
-    if (sha256_hex(bytes) != expected.at("sha256").get<std::string>()) result_lost(id, name + " does not match its sha256");
-    if (part == ResultPart::kForwardMap || part == ResultPart::kReverseMap) {
-      const bool forward = part == ResultPart::kForwardMap;
-      const auto count = manifest.at(forward ? "source_vertices" : "target_vertices").get<size_t>();
-      const auto limit = manifest.at(forward ? "target_vertices" : "source_vertices").get<int64_t>();
-      const std::vector<int> map = from_bytes<int>(bytes);
-      if (map.size() != count || bytes.size() % sizeof(int) != 0)
-        result_lost(id, name + " has " + std::to_string(map.size()) + " entries for " + std::to_string(count) +
-                            " vertices");
-      for (const int index : map)
-        if (index < 0 || index >= limit)
-          result_lost(id, name + " holds index " + std::to_string(index) + ", outside the other mesh's " +
-                              std::to_string(limit) + " vertices");
-    }
+    const std::string problem = result_part_problem(manifest, part, bytes);
+    if (!problem.empty()) result_lost(id, problem);
   } catch (const json::exception& e) {
     result_lost(id, std::string("unreadable manifest: ") + e.what());
   }
   return bytes;
 }
-
-std::vector<int> JobJournal::read_map(const std::string& id, ResultPart part) const {
-  return from_bytes<int>(read_checked_part(id, part));
-}
-
-std::vector<float> JobJournal::read_confidence(const std::string& id, ResultPart part) const {
-  return from_bytes<float>(read_checked_part(id, part));
-}
-
-std::string JobJournal::read_report(const std::string& id) const { return read_checked_part(id, ResultPart::kReport); }
 
 }  // namespace isocorr::server

@@ -13,10 +13,11 @@
 #include "isocorr/output/match_output.h"
 #include "storage/job_record.h"
 #include "storage/quarantine.h"
+#include "storage/result_parts.h"
 
 namespace isocorr::server {
 
-class JobJournal {
+class JobJournal final : public ResultReader {
  public:
   explicit JobJournal(const std::filesystem::path& data_dir);
 
@@ -30,16 +31,12 @@ class JobJournal {
   // into a temporary directory and renamed into place, so a result is whole or absent.
   void save_result(const std::string& id, const MatchOutput& result);
   bool has_result(const std::string& id) const;
-  // Each read checks the part against the manifest (length, SHA-256) and a map's indices
-  // against the other mesh's vertex count. A result that fails is moved to
+  // Each read (ResultReader) checks the part against the manifest (length, SHA-256) and a
+  // map's indices against the other mesh's vertex count. A result that fails is moved to
   // quarantine/results/; it and a missing result throw ServiceError(kDataLoss).
-  std::vector<int> read_map(const std::string& id, ResultPart part) const;           // kForwardMap, kReverseMap
-  std::vector<float> read_confidence(const std::string& id, ResultPart part) const;  // k*Confidence
-  std::string read_report(const std::string& id) const;
 
  private:
-  // The part's bytes after the checks above.
-  std::string read_checked_part(const std::string& id, ResultPart part) const;
+  std::string read_checked_part(const std::string& id, ResultPart part) const override;
   // Results written before manifests existed (their directory has none): the parts'
   // structure is checked once at start and a manifest written; a result that fails is
   // set aside in quarantine/results/ (its job then answers DATA_LOSS on download).

@@ -1,6 +1,8 @@
 #include "storage/job_record.h"
 
 #include <chrono>
+#include <mutex>
+#include <random>
 
 namespace isocorr::server {
 
@@ -28,6 +30,16 @@ std::string job_tag(const JobRecord& job) {
 int64_t now_ms() {
   return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
       .count();
+}
+
+std::string new_job_id() {
+  static std::mutex mutex;
+  static std::mt19937_64 generator{std::random_device{}()};
+  std::lock_guard lock(mutex);
+  static const char* hex = "0123456789abcdef";
+  std::string id;
+  for (uint64_t bits = generator(), i = 0; i < 16; ++i, bits >>= 4) id += hex[bits & 15];
+  return id;
 }
 
 }  // namespace isocorr::server

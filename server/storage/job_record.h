@@ -46,5 +46,7 @@ struct JobRecord {
 std::string job_tag(const JobRecord& job);
 
 int64_t now_ms();
+// 16 random hex digits: a job's id, unique across replicas in practice (64 bits).
+std::string new_job_id();
 
 }  // namespace isocorr::server

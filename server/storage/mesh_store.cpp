@@ -9,9 +9,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "isocorr/mesh/mesh_cleaning.h"
-#include "isocorr/mesh/mesh_io.h"
-#include "isocorr/util/error.h"
 #include "service_error.h"
 #include "storage/durable_file.h"
 #include "storage/sealed_json.h"
@@ -23,47 +20,11 @@ using Kind = ServiceError::Kind;
 
 namespace {
 
-int64_t now_ms() {
-  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
-
 std::string random_suffix() {
   static std::mutex mutex;
   static std::mt19937_64 generator{std::random_device{}()};
   std::lock_guard lock(mutex);
   return std::to_string(generator());
-}
-
-nlohmann::json to_json(const MeshInfo& info) {
-  return {{"digest", info.digest},         {"filename", info.filename},         {"size_bytes", info.size_bytes},
-          {"format", info.format},         {"vertex_count", info.vertex_count}, {"face_count", info.face_count},
-          {"notes", info.notes},           {"create_time_ms", info.create_time_ms}};
-}
-
-MeshInfo from_json(const nlohmann::json& j) {
-  MeshInfo info;
-  info.digest = j.at("digest");
-  info.filename = j.at("filename");
-  info.size_bytes = j.at("size_bytes");
-  info.format = j.at("format");
-  info.vertex_count = j.at("vertex_count");
-  info.face_count = j.at("face_count");
-  info.notes = j.at("notes").get<std::vector<std::string>>();
-  info.create_time_ms = j.at("create_time_ms");
-  return info;
-}
-
-
-// Told when a stored mesh is found corrupted, and every time it is asked for afterwards.
-std::string corrupted_message(const std::string& digest) {
-  return "mesh meshes/" + digest +
-         " is corrupted on the server's disk and was set aside; upload the same file again to repair it";
-}
-
-std::string too_large(int64_t limit) {
-  return "mesh larger than the server's limit of " + std::to_string(limit) +
-         " bytes (isocorr-server --max-mesh-bytes)";
 }
 
 }  // namespace
@@ -91,61 +52,35 @@ void MeshStore::remove_leftovers() {
 
 std::unique_ptr<MeshUpload> MeshStore::begin_upload(const std::string& digest, const std::string& filename,
                                                     int64_t declared_size) {
-  if (!is_sha256_hex(digest))
-    throw ServiceError(Kind::kInvalidArgument, "sha256 must be 64 lower-case hex characters, got '" + digest + "'");
-  if (declared_size > max_mesh_bytes_) throw ServiceError(Kind::kResourceExhausted, too_large(max_mesh_bytes_));
+  check_upload_header(digest, declared_size);
   const fs::path temp = temp_dir_ / (digest + "." + random_suffix());
-  return std::unique_ptr<MeshUpload>(new MeshUpload(*this, digest, filename, temp));
+  return std::unique_ptr<MeshUpload>(new DirectoryMeshUpload(*this, digest, filename, temp));
 }
 
-MeshUpload::MeshUpload(MeshStore& store, std::string digest, std::string filename, fs::path temp)
-    : store_(store), digest_(std::move(digest)), filename_(std::move(filename)), temp_(std::move(temp)),
+DirectoryMeshUpload::DirectoryMeshUpload(MeshStore& store, std::string digest, std::string filename, fs::path temp)
+    : MeshUpload(std::move(digest), std::move(filename), store.max_mesh_bytes_), store_(store), temp_(std::move(temp)),
       file_(std::fopen(temp_.c_str(), "wb"), &std::fclose) {
   if (!file_) throw_write_failure("cannot create", temp_, errno);
 }
 
-MeshUpload::~MeshUpload() {
+DirectoryMeshUpload::~DirectoryMeshUpload() {
   file_.reset();
   std::error_code ignored;
   fs::remove(temp_, ignored);
 }
 
-void MeshUpload::append(std::string_view bytes) {
-  received_ += static_cast<int64_t>(bytes.size());
-  if (received_ > store_.max_mesh_bytes_) throw ServiceError(Kind::kResourceExhausted, too_large(store_.max_mesh_bytes_));
-  hasher_.update(bytes);
+void DirectoryMeshUpload::keep(std::string_view bytes) {
   if (std::fwrite(bytes.data(), 1, bytes.size(), file_.get()) != bytes.size())
     throw_write_failure("cannot write", temp_, errno);
 }
 
-MeshInfo MeshUpload::commit() {
-  const std::string actual = hasher_.hex_digest();
-  if (actual != digest_)
-    throw ServiceError(Kind::kInvalidArgument, "content hashes to sha256 " + actual + ", not " + digest_ +
-                                                   " as the upload header says (corrupted or truncated upload)");
+std::string DirectoryMeshUpload::kept_bytes() {
   if (std::fflush(file_.get()) != 0) throw_write_failure("cannot write", temp_, errno);
   if (std::fclose(file_.release()) != 0) throw_write_failure("cannot write", temp_, errno);
+  return read_whole_file(temp_);
+}
 
-  MeshInfo info;
-  try {
-    const LoadedMesh loaded = parse_mesh(read_whole_file(temp_), filename_);
-    // What every job checks, with the default cleaning: an accepted upload can be matched
-    // unless a job's own cleaning settings are stricter.
-    const CleanMesh clean = clean_mesh(loaded.mesh);
-    check_matchable(clean);
-    info.format = loaded.format;
-    info.vertex_count = loaded.mesh.num_vertices();
-    info.face_count = loaded.mesh.num_faces();
-    info.notes = loaded.notes;
-    for (const auto& repair : clean.repairs) info.notes.push_back("cleaning: " + repair);
-  } catch (const InputError& e) {
-    throw ServiceError(Kind::kInvalidArgument, "not a usable mesh: " + std::string(e.what()));
-  }
-  info.digest = digest_;
-  info.filename = filename_;
-  info.size_bytes = received_;
-  info.create_time_ms = now_ms();
-
+MeshInfo DirectoryMeshUpload::store(const MeshInfo& info) {
   std::lock_guard lock(store_.mutex_);
   // A concurrent upload won; a corrupted copy is quarantined (and replaced below).
   MeshStore::Lookup existing = store_.quarantine_if_corrupted(digest_, /*with_bytes=*/true);
@@ -155,7 +90,7 @@ MeshInfo MeshUpload::commit() {
     fsync_path(temp_);
     guard_storage_write("cannot store", mesh_path, [&] { fs::rename(temp_, mesh_path); });
     fsync_path(store_.dir_);
-    write_file_durably(store_.info_path(digest_), seal_json(to_json(info)));
+    write_file_durably(store_.info_path(digest_), seal_json(mesh_info_to_json(info)));
   } catch (...) {
     std::error_code ignored;  // not acknowledged: nothing may stay behind
     fs::remove(mesh_path, ignored);
@@ -182,7 +117,7 @@ MeshStore::Lookup MeshStore::lookup(const std::string& digest, bool with_bytes) 
   }
   result.found = Found::kCorrupted;
   try {
-    result.info = from_json(unseal_json(text));
+    result.info = mesh_info_from_json(unseal_json(text));
   } catch (const std::exception& e) {
     result.problem = std::string("unreadable description: ") + e.what();
     return result;
@@ -236,14 +171,14 @@ MeshStore::Lookup MeshStore::checked(const std::string& digest, bool with_bytes)
 
 std::optional<MeshInfo> MeshStore::describe(const std::string& digest) {
   Lookup result = checked(digest, /*with_bytes=*/false);
-  if (result.found == Found::kQuarantined) throw ServiceError(Kind::kDataLoss, corrupted_message(digest));
+  if (result.found == Found::kQuarantined) throw ServiceError(Kind::kDataLoss, corrupted_mesh_message(digest));
   if (result.found == Found::kAbsent) return std::nullopt;
   return std::move(result.info);
 }
 
 std::optional<MeshInfo> MeshStore::get(const std::string& digest) {
   Lookup result = checked(digest, /*with_bytes=*/true);
-  if (result.found == Found::kQuarantined) throw ServiceError(Kind::kDataLoss, corrupted_message(digest));
+  if (result.found == Found::kQuarantined) throw ServiceError(Kind::kDataLoss, corrupted_mesh_message(digest));
   if (result.found == Found::kAbsent) return std::nullopt;
   return std::move(result.info);
 }
@@ -280,7 +215,7 @@ bool MeshStore::remove(const std::string& digest) {
 
 MeshStore::StoredMesh MeshStore::read(const std::string& digest) {
   Lookup result = checked(digest, /*with_bytes=*/true);
-  if (result.found == Found::kQuarantined) throw ServiceError(Kind::kDataLoss, corrupted_message(digest));
+  if (result.found == Found::kQuarantined) throw ServiceError(Kind::kDataLoss, corrupted_mesh_message(digest));
   if (result.found == Found::kAbsent)
     throw ServiceError(Kind::kNotFound, "no mesh meshes/" + digest + " on this server; upload it first");
   return {std::move(result.info), std::move(result.bytes)};

@@ -15,74 +15,46 @@
 #include <string>
 #include <vector>
 
-#include "isocorr/util/sha256.h"
+#include "storage/mesh_repository.h"
 #include "storage/quarantine.h"
 
 namespace isocorr::server {
 
-struct MeshInfo {
-  std::string digest;  // SHA-256, lower-case hex
-  std::string filename;
-  int64_t size_bytes = 0;
-  std::string format;
-  int vertex_count = 0;
-  int face_count = 0;
-  std::vector<std::string> notes;
-  int64_t create_time_ms = 0;  // since the Unix epoch
-};
-
 class MeshStore;
 
-// One upload in progress: bytes go to a temporary file while being hashed.
-class MeshUpload {
+// An upload into the data directory: bytes go to a temporary file while being hashed.
+class DirectoryMeshUpload final : public MeshUpload {
  public:
-  ~MeshUpload();
-  // Throws ServiceError(kResourceExhausted) past the store's size limit.
-  void append(std::string_view bytes);
-  // Verifies the digest and the mesh, then stores it. Throws ServiceError
-  // (kInvalidArgument) naming the problem, or (kResourceExhausted) when the disk is full;
-  // a failed commit leaves no file behind.
-  MeshInfo commit();
+  ~DirectoryMeshUpload() override;
 
  private:
   friend class MeshStore;
-  MeshUpload(MeshStore& store, std::string digest, std::string filename, std::filesystem::path temp);
+  DirectoryMeshUpload(MeshStore& store, std::string digest, std::string filename, std::filesystem::path temp);
+  void keep(std::string_view bytes) override;
+  std::string kept_bytes() override;
+  MeshInfo store(const MeshInfo& info) override;
+
   MeshStore& store_;
-  std::string digest_, filename_;
   std::filesystem::path temp_;
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file_;
-  Sha256 hasher_;
-  int64_t received_ = 0;
 };
 
-class MeshStore {
+class MeshStore final : public MeshRepository {
  public:
   MeshStore(const std::filesystem::path& data_dir, int64_t max_mesh_bytes);
 
-  // Validates the header (digest syntax, declared size against the limit).
   std::unique_ptr<MeshUpload> begin_upload(const std::string& digest, const std::string& filename,
-                                           int64_t declared_size);
-  // nullopt when there is no such mesh; ServiceError(kDataLoss) when it is corrupted or
-  // was quarantined and not uploaded again.
-  // describe: the description only (and the file's size); get: also hashes the bytes.
-  std::optional<MeshInfo> describe(const std::string& digest);
-  std::optional<MeshInfo> get(const std::string& digest);
-  // As get, but a corrupted or quarantined mesh counts as absent: the upload path, where
-  // the right bytes repair it.
-  std::optional<MeshInfo> find_intact(const std::string& digest);
-  std::vector<MeshInfo> list();  // by digest; descriptions only, unreadable ones quarantined
-  bool remove(const std::string& digest);
-
-  struct StoredMesh {
-    MeshInfo info;
-    std::string bytes;  // checked against the digest
-  };
-  // Throws ServiceError(kNotFound, kDataLoss).
-  StoredMesh read(const std::string& digest);
-  int64_t max_mesh_bytes() const { return max_mesh_bytes_; }
+                                           int64_t declared_size) override;
+  std::optional<MeshInfo> describe(const std::string& digest) override;
+  std::optional<MeshInfo> get(const std::string& digest) override;
+  std::optional<MeshInfo> find_intact(const std::string& digest) override;
+  std::vector<MeshInfo> list() override;  // unreadable descriptions are quarantined
+  bool remove(const std::string& digest) override;
+  StoredMesh read(const std::string& digest) override;
+  int64_t max_mesh_bytes() const override { return max_mesh_bytes_; }
 
  private:
-  friend class MeshUpload;
+  friend class DirectoryMeshUpload;
   std::filesystem::path mesh_path(const std::string& digest) const { return dir_ / (digest + ".mesh"); }
   std::filesystem::path info_path(const std::string& digest) const { return dir_ / (digest + ".json"); }
 

@@ -60,8 +60,8 @@ TEST_F(JobManagerTest, ConcurrentCallersAndWorkersAgreeOnEveryJob) {
   std::vector<std::thread> callers;
   for (int i = 0; i < 2; ++i)
     callers.emplace_back([&, i] {
-      kept[i] = manager.create(source, target, settings).id;
-      cancelled[i] = manager.create(target, source, settings).id;
+      kept[i] = manager.create(source, target, settings, "r1").id;
+      cancelled[i] = manager.create(target, source, settings, "r2").id;
       const JobState at_cancel = manager.cancel(cancelled[i]).state;
       EXPECT_TRUE(at_cancel == JobState::kCancelled || at_cancel == JobState::kRunning ||
                   at_cancel == JobState::kSucceeded)

@@ -15,16 +15,12 @@
 namespace isocorr::testing {
 namespace fs = std::filesystem;
 
-namespace {
-
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
+std::string slurp_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
 }
-
-}  // namespace
 
 CommandRun run_command(const std::string& command) {
   static int counter = 0;
@@ -37,7 +33,7 @@ CommandRun run_command(const std::string& command) {
   while (fgets(buffer, sizeof buffer, pipe)) result.out += buffer;
   const int status = pclose(pipe);
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  result.err = slurp(err);
+  result.err = slurp_file(err);
   fs::remove(err);
   return result;
 }
@@ -86,12 +82,12 @@ ServerProcess::ServerProcess(fs::path data_dir, std::vector<std::string> extra)
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
     if (waitpid(pid_, nullptr, WNOHANG) == pid_) {
       pid_ = -1;
-      throw std::runtime_error("isocorr-server exited at start:\n" + slurp(log_));
+      throw std::runtime_error("isocorr-server exited at start:\n" + slurp_file(log_));
     }
     std::ifstream in(port_file);
     in >> port_;
   }
-  if (port_ == 0) throw std::runtime_error("isocorr-server did not start in 30 s:\n" + slurp(log_));
+  if (port_ == 0) throw std::runtime_error("isocorr-server did not start in 30 s:\n" + slurp_file(log_));
 }
 
 ServerProcess::~ServerProcess() {

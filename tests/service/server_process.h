@@ -16,6 +16,9 @@ struct CommandRun {
   std::string err;
 };
 
+// A file's bytes ("" when it cannot be read).
+std::string slurp_file(const std::filesystem::path& path);
+
 // Runs a shell command line; stdout and stderr are kept apart.
 CommandRun run_command(const std::string& command);
 

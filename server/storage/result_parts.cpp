@@ -1,0 +1,78 @@
+#include "storage/result_parts.h"
+
+#include <stdexcept>
+
+#include "isocorr/util/sha256.h"
+
+namespace isocorr::server {
+using nlohmann::json;
+
+namespace {
+
+template <typename T>
+std::string to_bytes(const std::vector<T>& values) {  // little-endian hosts only (x86-64, arm64)
+  std::string bytes(values.size() * sizeof(T), '\0');
+  if (!values.empty()) std::memcpy(bytes.data(), values.data(), bytes.size());
+  return bytes;
+}
+
+json manifest_of(const std::map<ResultPart, std::string>& parts, size_t source_vertices, size_t target_vertices) {
+  json entries = json::object();
+  for (const auto& [part, bytes] : parts)
+    entries[std::string(result_part_name(part))] = {{"bytes", bytes.size()}, {"sha256", sha256_hex(bytes)}};
+  return {{"source_vertices", source_vertices}, {"target_vertices", target_vertices}, {"parts", entries}};
+}
+
+}  // namespace
+
+EncodedResult encode_result(const MatchOutput& result) {
+  EncodedResult encoded;
+  encoded.parts[ResultPart::kForwardMap] = to_bytes(result.forward);
+  encoded.parts[ResultPart::kReverseMap] = to_bytes(result.reverse);
+  encoded.parts[ResultPart::kForwardConfidence] = to_bytes(result.forward_confidence);
+  encoded.parts[ResultPart::kReverseConfidence] = to_bytes(result.reverse_confidence);
+  encoded.parts[ResultPart::kReport] = result.report_json;
+  encoded.manifest = manifest_of(encoded.parts, result.forward.size(), result.reverse.size());
+  return encoded;
+}
+
+json manifest_of_unchecked_parts(const std::map<ResultPart, std::string>& bytes) {
+  const std::string& forward_bytes = bytes.at(ResultPart::kForwardMap);
+  const std::string& reverse_bytes = bytes.at(ResultPart::kReverseMap);
+  const std::vector<int> forward = values_from_bytes<int>(forward_bytes);
+  const std::vector<int> reverse = values_from_bytes<int>(reverse_bytes);
+  // Without digests only the structure can be checked: whole int32/float32 arrays, one
+  // confidence per map entry, every index inside the other map's length.
+  bool whole = forward.size() * sizeof(int) == forward_bytes.size() &&
+               reverse.size() * sizeof(int) == reverse_bytes.size() &&
+               bytes.at(ResultPart::kForwardConfidence).size() == forward.size() * sizeof(float) &&
+               bytes.at(ResultPart::kReverseConfidence).size() == reverse.size() * sizeof(float);
+  for (const int index : forward) whole = whole && index >= 0 && index < static_cast<int64_t>(reverse.size());
+  for (const int index : reverse) whole = whole && index >= 0 && index < static_cast<int64_t>(forward.size());
+  if (!whole) throw std::runtime_error("its parts do not fit together");
+  return manifest_of(bytes, forward.size(), reverse.size());
+}
+
+std::string result_part_problem(const json& manifest, ResultPart part, const std::string& bytes) {
+  const std::string name(result_part_name(part));
+  const json& expected = manifest.at("parts").at(name);
+  if (bytes.size() != expected.at("bytes").get<size_t>())
+    return name + " has " + std::to_string(bytes.size()) + " bytes, not " +
+           std::to_string(expected.at("bytes").get<size_t>());
+  if (sha256_hex(bytes) != expected.at("sha256").get<std::string>()) return name + " does not match its sha256";
+  if (part == ResultPart::kForwardMap || part == ResultPart::kReverseMap) {
+    const bool forward = part == ResultPart::kForwardMap;
+    const auto count = manifest.at(forward ? "source_vertices" : "target_vertices").get<size_t>();
+    const auto limit = manifest.at(forward ? "target_vertices" : "source_vertices").get<int64_t>();
+    const std::vector<int> map = values_from_bytes<int>(bytes);
+    if (map.size() != count || bytes.size() % sizeof(int) != 0)
+      return name + " has " + std::to_string(map.size()) + " entries for " + std::to_string(count) + " vertices";
+    for (const int index : map)
+      if (index < 0 || index >= limit)
+        return name + " holds index " + std::to_string(index) + ", outside the other mesh's " +
+               std::to_string(limit) + " vertices";
+  }
+  return "";
+}
+
+}  // namespace isocorr::server

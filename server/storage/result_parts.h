@@ -1,0 +1,59 @@
+// A finished job's result as any store keeps it: one byte string per part (little-endian
+// int32 maps, float32 confidence, the JSON report) and a manifest of each part's length
+// and SHA-256 with both meshes' vertex counts, so that every read can be checked.
+#pragma once
+
+#include <cstring>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "isocorr/output/match_output.h"
+
+namespace isocorr::server {
+
+struct EncodedResult {
+  std::map<ResultPart, std::string> parts;
+  nlohmann::json manifest;
+};
+
+EncodedResult encode_result(const MatchOutput& result);
+// The manifest of parts whose digests were never recorded, after checking their structure
+// (whole arrays, one confidence per map entry, indices inside the other map). Throws
+// std::runtime_error when they do not fit together.
+nlohmann::json manifest_of_unchecked_parts(const std::map<ResultPart, std::string>& parts);
+
+// What is wrong with `bytes` as `part` of the result `manifest` describes (length, SHA-256,
+// a map's entry count and index range); empty when nothing is. Throws
+// nlohmann::json::exception for a manifest that lacks what it needs.
+std::string result_part_problem(const nlohmann::json& manifest, ResultPart part, const std::string& bytes);
+
+template <typename T>
+std::vector<T> values_from_bytes(const std::string& bytes) {  // little-endian hosts only (x86-64, arm64)
+  std::vector<T> values(bytes.size() / sizeof(T));
+  if (!values.empty()) std::memcpy(values.data(), bytes.data(), values.size() * sizeof(T));
+  return values;
+}
+
+// Reading a stored result back, part by part, each part checked against the manifest.
+// A result that fails is set aside by the store; it and a missing result throw
+// ServiceError(kDataLoss).
+class ResultReader {
+ public:
+  virtual ~ResultReader() = default;
+  std::vector<int> read_map(const std::string& id, ResultPart part) const {  // kForwardMap, kReverseMap
+    return values_from_bytes<int>(read_checked_part(id, part));
+  }
+  std::vector<float> read_confidence(const std::string& id, ResultPart part) const {  // k*Confidence
+    return values_from_bytes<float>(read_checked_part(id, part));
+  }
+  std::string read_report(const std::string& id) const { return read_checked_part(id, ResultPart::kReport); }
+
+ protected:
+  // The part's bytes after the checks of result_part_problem.
+  virtual std::string read_checked_part(const std::string& id, ResultPart part) const = 0;
+};
+
+}  // namespace isocorr::server
