@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "isocorr/matching/matcher.h"
+#include "service_error.h"
 #include "storage/job_record.h"
 #include "storage/mesh_repository.h"
 #include "storage/result_parts.h"
@@ -54,6 +55,11 @@ class JobCoordinator {
   // that both meshes are stored (kNotFound, or kDataLoss for a corrupted one).
   static void check_new_job(MeshRepository& meshes, const std::string& source_digest,
                             const std::string& target_digest, const MatchSettings& settings);
+  // A new QUEUED job with a fresh id, created now.
+  static JobRecord new_job(const std::string& source_digest, const std::string& target_digest,
+                           const MatchSettings& settings, const std::string& request_id);
+  // The kResourceExhausted refusal when `queued` jobs reach --max-queued-jobs.
+  static ServiceError queue_full(size_t queued);
 };
 
 }  // namespace isocorr::server

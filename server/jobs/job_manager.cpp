@@ -95,18 +95,10 @@ JobRecord JobManager::create(const std::string& source_digest, const std::string
 
   std::lock_guard lock(mutex_);
   if (stopping_) throw ServiceError(Kind::kUnavailable, "the server is shutting down; retry on its next start");
-  if (static_cast<int>(queue_.size()) >= options_.max_queued_jobs)
-    throw ServiceError(Kind::kResourceExhausted, std::to_string(queue_.size()) +
-                                                     " jobs are queued, the server's limit (--max-queued-jobs); "
-                                                     "retry when some have finished");
+  if (static_cast<int>(queue_.size()) >= options_.max_queued_jobs) throw queue_full(queue_.size());
   auto slot = std::make_unique<Slot>();
+  slot->record = new_job(source_digest, target_digest, settings, request_id);
   JobRecord& record = slot->record;
-  record.id = new_job_id();
-  record.source_digest = source_digest;
-  record.target_digest = target_digest;
-  record.settings = settings;
-  record.created_by_request = request_id;
-  record.create_time_ms = now_ms();
   journal_.save(record);
   queue_.push_back(record.id);
   const JobRecord created = record;

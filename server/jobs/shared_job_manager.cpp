@@ -62,17 +62,8 @@ JobRecord SharedJobManager::create(const std::string& source_digest, const std::
     if (stopping_) throw ServiceError(Kind::kUnavailable, "the server is shutting down; retry on another replica");
   }
   const int queued = store_.count_queued();
-  if (queued >= options_.max_queued_jobs)
-    throw ServiceError(Kind::kResourceExhausted, std::to_string(queued) +
-                                                     " jobs are queued, the server's limit (--max-queued-jobs); "
-                                                     "retry when some have finished");
-  JobRecord record;
-  record.id = new_job_id();
-  record.source_digest = source_digest;
-  record.target_digest = target_digest;
-  record.settings = settings;
-  record.created_by_request = request_id;
-  record.create_time_ms = now_ms();
+  if (queued >= options_.max_queued_jobs) throw queue_full(queued);
+  JobRecord record = new_job(source_digest, target_digest, settings, request_id);
   store_.insert(record, options_.replica);
   record.version = 1;
   {
