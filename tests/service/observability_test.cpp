@@ -1,10 +1,7 @@
 // What an operator sees of a running isocorr-server: the Prometheus endpoint (jobs, the
 // shape cache, calls by status code) and the request id that each response carries back
 // to the client, its errors and --verbose, and the server's log lines.
-#include <civetweb.h>
-
 #include <filesystem>
-#include <fstream>
 #include <regex>
 #include <string>
 
@@ -13,6 +10,7 @@
 #include "isocorr/mesh/mesh_io.h"
 #include "isocorr/mesh/procedural_meshes.h"
 #include "client_json.h"
+#include "metrics_scrape.h"
 #include "server_process.h"
 #include "suite_files.h"
 
@@ -20,34 +18,6 @@ namespace isocorr::testing {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-// GET http://127.0.0.1:port/path; the status code and the body.
-std::pair<int, std::string> http_get(int port, const std::string& path) {
-  [[maybe_unused]] static const unsigned initialised = mg_init_library(0);  // once, as civetweb asks
-  char error[256] = {0};
-  mg_connection* connection = mg_download("127.0.0.1", port, 0, error, sizeof error,
-                                          "GET %s HTTP/1.0\r\nHost: 127.0.0.1\r\n\r\n", path.c_str());
-  if (!connection) return {-1, error};
-  const int status = mg_get_response_info(connection)->status_code;
-  std::string body;
-  char buffer[8192];
-  for (int n; (n = mg_read(connection, buffer, sizeof buffer)) > 0;) body.append(buffer, n);
-  mg_close_connection(connection);
-  return {status, body};
-}
-
-// The value of one series ("name{labels}" exactly as exposed), or -1 when it is absent.
-double sample(const std::string& exposition, const std::string& series) {
-  const std::string prefix = "\n" + series + " ";
-  const size_t at = ("\n" + exposition).find(prefix);
-  if (at == std::string::npos) return -1;
-  return std::stod(exposition.substr(at + prefix.size() - 1));
-}
 
 class Observability : public WithSuiteFiles<Observability> {
  protected:
@@ -62,7 +32,7 @@ class Observability : public WithSuiteFiles<Observability> {
   struct Observed {
     explicit Observed(const fs::path& data_dir)
         : server(data_dir, {"--metrics-listen", "127.0.0.1:0", "--metrics-port-file", data_dir.string() + ".mport"}),
-          metrics_port(std::stoi(slurp(data_dir.string() + ".mport"))) {}
+          metrics_port(std::stoi(slurp_file(data_dir.string() + ".mport"))) {}
     std::string scrape() const {
       const auto [status, body] = http_get(metrics_port, "/metrics");
       EXPECT_EQ(status, 200) << body;
@@ -121,7 +91,7 @@ TEST_F(Observability, MetricsCountJobsCacheHitsAndCallsByCode) {
 
 TEST_F(Observability, MetricsEndpointIsOffUnlessAskedAndRefusesABadAddress) {
   ServerProcess plain(data_dir());
-  EXPECT_EQ(slurp(plain.log_path()).find("metrics on"), std::string::npos);
+  EXPECT_EQ(slurp_file(plain.log_path()).find("metrics on"), std::string::npos);
   EXPECT_THROW(ServerProcess(data_dir() / "bad", {"--metrics-listen", "metrics.example:9464"}), std::runtime_error);
 }
 
@@ -132,7 +102,7 @@ TEST_F(Observability, RequestIdsReachTheClientAndTheLogs) {
   EXPECT_EQ(missing.exit_code, 2);
   std::smatch id;
   ASSERT_TRUE(std::regex_search(missing.err, id, std::regex(R"(\(request (r[0-9]+)\))"))) << missing.err;
-  EXPECT_NE(slurp(server.log_path()).find("[" + id[1].str() + "] GetJob -> 5 "), std::string::npos);
+  EXPECT_NE(slurp_file(server.log_path()).find("[" + id[1].str() + "] GetJob -> 5 "), std::string::npos);
   const CommandRun missing_json = server.client("status jobs/0123456789abcdef --json");
   const std::string json_id = last_json(missing_json)["error"].value("request_id", "");
   EXPECT_TRUE(std::regex_match(json_id, std::regex("r[0-9]+"))) << missing_json.out;
@@ -149,7 +119,7 @@ TEST_F(Observability, RequestIdsReachTheClientAndTheLogs) {
   ASSERT_FALSE(create_id.empty()) << submit.err;
   const std::string job = submit.out.substr(0, submit.out.find('\n'));
   EXPECT_EQ(last_json(server.client("wait " + job + " --json"))["state"], "SUCCEEDED");
-  const std::string log = slurp(server.log_path());
+  const std::string log = slurp_file(server.log_path());
   const std::string tag = "[job " + job.substr(job.find('/') + 1) + " from " + create_id + "] ";
   EXPECT_NE(log.find(tag + "queued"), std::string::npos) << log;
   EXPECT_NE(log.find(tag + "succeeded"), std::string::npos) << log;

@@ -2,10 +2,12 @@
 // uploaded through one is matched through the other and downloaded through either; a
 // replica killed with SIGKILL in the middle of a job loses nothing, as the other takes the
 // job over once its lease expires; a cancel reaches the job through any replica; the
-// database's bytes are checked on every read (DATA_LOSS). Skipped only where Debian's
+// database's bytes are checked on every read (DATA_LOSS); each replica's metrics count the
+// shared store's jobs and the jobs it ran. Skipped only where Debian's
 // PostgreSQL binaries are absent (package `postgresql`, in deploy/packages.txt).
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <memory>
@@ -19,6 +21,7 @@
 #include "isocorr/mesh/procedural_meshes.h"
 #include "isocorr/util/sha256.h"
 #include "loopback_postgres.h"
+#include "metrics_scrape.h"
 #include "server_process.h"
 
 namespace isocorr::testing {
@@ -56,14 +59,22 @@ class Replicas : public LoopbackPostgresTest {
     replicas_[1].reset();
   }
 
-  // Replica `i` ("replica-0" or "replica-1") on the shared store, started (again).
+  // Replica `i` ("replica-0" or "replica-1") on the shared store, started (again), with its
+  // metrics on a free loopback port.
   ServerProcess& start_replica(int i) {
     replicas_[i].reset();
+    const fs::path data_dir = *dir_ / (database_ + "_replica-" + std::to_string(i));
     replicas_[i] = std::make_unique<ServerProcess>(
-        *dir_ / (database_ + "_replica-" + std::to_string(i)),
-        std::vector<std::string>{"--store", database_url(), "--replica-id", replica_id(i), "--lease-seconds",
-                                 kLease, "--threads", "1"});
+        data_dir, std::vector<std::string>{"--store", database_url(), "--replica-id", replica_id(i),
+                                           "--lease-seconds", kLease, "--threads", "1", "--metrics-listen",
+                                           "127.0.0.1:0", "--metrics-port-file", data_dir.string() + ".mport"});
+    metrics_ports_[i] = std::stoi(slurp_file(data_dir.string() + ".mport"));
     return *replicas_[i];
+  }
+  std::string scrape(int i) const {
+    const auto [status, body] = http_get(metrics_ports_[i], "/metrics");
+    EXPECT_EQ(status, 200) << body;
+    return body;
   }
   static std::string replica_id(int i) { return "replica-" + std::to_string(i); }
   static fs::path path(const std::string& name) { return *dir_ / name; }
@@ -115,6 +126,7 @@ class Replicas : public LoopbackPostgresTest {
 
   static fs::path* dir_;
   std::unique_ptr<ServerProcess> replicas_[2];
+  int metrics_ports_[2] = {0, 0};
 };
 fs::path* Replicas::dir_ = nullptr;
 
@@ -141,6 +153,18 @@ TEST_F(Replicas, AnyReplicaServesAnyCallAndAKilledReplicasJobCompletesOnTheOther
   const std::string job = last_json(submit)["name"];
   const json done = wait_done(first, job);
   ASSERT_EQ(done.value("state", ""), "SUCCEEDED") << done.dump();
+
+  // Metrics: both replicas count the job from the shared store; the one that ran it, and
+  // only that one, recorded its duration.
+  const std::string metrics[2] = {scrape(0), scrape(1)};
+  double durations = 0;
+  for (const std::string& text : metrics) {
+    EXPECT_EQ(sample(text, "isocorr_jobs{state=\"SUCCEEDED\"}"), 1) << text;
+    EXPECT_EQ(sample(text, "isocorr_job_queue_length"), 0) << text;
+    // Absent (-1) on a replica that has ended no job yet.
+    durations += std::max(0.0, sample(text, "isocorr_job_duration_seconds_count{state=\"SUCCEEDED\"}"));
+  }
+  EXPECT_EQ(durations, 1);
   const std::string through_first = download(first, job, "first"), through_second = download(second, job, "second");
   EXPECT_FALSE(through_first.empty());
   EXPECT_EQ(sha256_hex(through_first), sha256_hex(through_second));
