@@ -33,13 +33,7 @@ int run_eval(const EvalArguments& args) {
     const std::vector<int> forward = read_map(args.map);
     const LoadedMesh source = load_mesh(pair.source_path);
     const LoadedMesh target = load_mesh(pair.target_path);
-    if (static_cast<int>(forward.size()) != source.mesh.num_vertices())
-      throw InputError("map has " + std::to_string(forward.size()) + " entries but the source has " +
-                       std::to_string(source.mesh.num_vertices()) + " vertices");
-    for (int t : forward)
-      if (t >= target.mesh.num_vertices())
-        throw InputError("map refers to target vertex " + std::to_string(t) + " beyond the target's " +
-                         std::to_string(target.mesh.num_vertices()));
+    check_map_fits(forward, source.mesh.num_vertices(), target.mesh.num_vertices());
     const GroundTruth truth =
         load_ground_truth(args.dataset, pair, source.mesh.num_vertices(), target.mesh.num_vertices());
     const MeshTopology topology(target.mesh);

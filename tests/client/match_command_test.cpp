@@ -1,6 +1,4 @@
 // The `isocorr` binary as a user runs it: exit codes, map files, report, bad input.
-#include <sys/wait.h>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -9,25 +7,14 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "shell_run.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandRun {
-  int exit_code = -1;
-  std::string output;
-};
-
-CommandRun run_command(const std::string& command) {
-  CommandRun result;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (!pipe) return result;
-  char buffer[4096];
-  while (fgets(buffer, sizeof buffer, pipe)) result.output += buffer;
-  const int status = pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
+using isocorr::testing::run_shell;
+using isocorr::testing::ShellRun;
 
 std::vector<int> read_lines(const fs::path& path) {
   std::vector<int> values;
@@ -41,7 +28,7 @@ class MatchCommand : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = new fs::path(fs::temp_directory_path() / ("isocorr_cli_test_" + std::to_string(getpid())));
     fs::create_directories(*dir_);
-    ASSERT_EQ(run_command(std::string(ISOCORR_MAKE_EXAMPLES_PATH) + " " + dir_->string()).exit_code, 0);
+    ASSERT_EQ(run_shell(std::string(ISOCORR_MAKE_EXAMPLES_PATH) + " " + dir_->string()).exit_code, 0);
   }
   static void TearDownTestSuite() {
     fs::remove_all(*dir_);
@@ -54,7 +41,7 @@ fs::path* MatchCommand::dir_ = nullptr;
 
 TEST_F(MatchCommand, WritesMapsAndReportThatEvalScores) {
   const fs::path map = *dir_ / "out.map", reverse = *dir_ / "out.reverse.map", report = *dir_ / "report.json";
-  const CommandRun match = run_command(cli_ + " match " + (*dir_ / "meshes/creature.ply").string() + " " +
+  const ShellRun match = run_shell(cli_ + " match " + (*dir_ / "meshes/creature.ply").string() + " " +
                         (*dir_ / "meshes/creature_moved.ply").string() + " -o " + map.string() +
                         " --reverse-out " + reverse.string() + " --report " + report.string() +
                         " --colour-ply " + (*dir_ / "view_").string());
@@ -75,7 +62,7 @@ TEST_F(MatchCommand, WritesMapsAndReportThatEvalScores) {
   EXPECT_FALSE(json["tracked"].empty());
   EXPECT_LT(json["final"]["diso"].get<double>(), 0.01);
 
-  const CommandRun eval = run_command(cli_ + " eval " + map.string() + " --dataset " + dir_->string() +
+  const ShellRun eval = run_shell(cli_ + " eval " + map.string() + " --dataset " + dir_->string() +
                        " --source meshes/creature.ply --target meshes/creature_moved.ply --json");
   ASSERT_EQ(eval.exit_code, 0) << eval.output;
   const nlohmann::json score = nlohmann::json::parse(eval.output.substr(eval.output.find('{')));
@@ -85,18 +72,18 @@ TEST_F(MatchCommand, WritesMapsAndReportThatEvalScores) {
 
 TEST_F(MatchCommand, EvalReadsTheBinaryMapMatchWrites) {
   const fs::path map = *dir_ / "out.bin";
-  const CommandRun match = run_command(cli_ + " match " + (*dir_ / "meshes/creature.ply").string() + " " +
+  const ShellRun match = run_shell(cli_ + " match " + (*dir_ / "meshes/creature.ply").string() + " " +
                                        (*dir_ / "meshes/creature_moved.ply").string() + " -o " + map.string());
   ASSERT_EQ(match.exit_code, 0) << match.output;
   const std::string pair =
       " --dataset " + dir_->string() + " --source meshes/creature.ply --target meshes/creature_moved.ply";
-  const CommandRun eval = run_command(cli_ + " eval " + map.string() + pair + " --json");
+  const ShellRun eval = run_shell(cli_ + " eval " + map.string() + pair + " --json");
   ASSERT_EQ(eval.exit_code, 0) << eval.output;
   EXPECT_LT(nlohmann::json::parse(eval.output.substr(eval.output.find('{')))["d_grd"].get<double>(), 0.01);
 
   const fs::path cut = *dir_ / "cut.bin";  // declares 5 indices, holds one
   std::ofstream(cut, std::ios::binary) << std::string("ICMAP1\0\0\5\0\0\0\1\0\0\0", 16);
-  const CommandRun refused = run_command(cli_ + " eval " + cut.string() + pair);
+  const ShellRun refused = run_shell(cli_ + " eval " + cut.string() + pair);
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_NE(refused.output.find("truncated"), std::string::npos) << refused.output;
 }
@@ -104,17 +91,17 @@ TEST_F(MatchCommand, EvalReadsTheBinaryMapMatchWrites) {
 TEST_F(MatchCommand, BadMeshIsExitCodeTwoWithAReason) {
   const fs::path bad = *dir_ / "bad.off";
   std::ofstream(bad) << "OFF\n3 1 0\n0 0 0\n1 0 0\nnan 1 0\n3 0 1 2\n";
-  const CommandRun match = run_command(cli_ + " match " + bad.string() + " " + bad.string() + " -o " + (*dir_ / "x.map").string());
+  const ShellRun match = run_shell(cli_ + " match " + bad.string() + " " + bad.string() + " -o " + (*dir_ / "x.map").string());
   EXPECT_EQ(match.exit_code, 2);
   EXPECT_NE(match.output.find("bad.off"), std::string::npos) << match.output;
 }
 
 TEST_F(MatchCommand, HelpListsTheSettings) {
-  const CommandRun help = run_command(cli_ + " match --help");
+  const ShellRun help = run_shell(cli_ + " match --help");
   EXPECT_EQ(help.exit_code, 0);
   EXPECT_NE(help.output.find("--level0-samples"), std::string::npos);
   EXPECT_NE(help.output.find("--selection"), std::string::npos);
-  EXPECT_EQ(run_command(cli_ + " frobnicate").exit_code, 2);
+  EXPECT_EQ(run_shell(cli_ + " frobnicate").exit_code, 2);
 }
 
 }  // namespace

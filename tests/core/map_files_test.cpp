@@ -122,5 +122,20 @@ TEST_F(MapFiles, MissingFile) {
   EXPECT_NE(read_error(path("absent.map")).find("cannot read map file"), std::string::npos);
 }
 
+TEST(MapFit, OneTargetVertexPerSourceVertex) {
+  EXPECT_NO_THROW(check_map_fits({0, 2, 2}, 3, 3));
+  auto fit_error = [](const std::vector<int>& map) {
+    try {
+      check_map_fits(map, 3, 3);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(fit_error({0, 1}).find("2 entries but the source has 3"), std::string::npos);
+  EXPECT_NE(fit_error({0, 3, 1}).find("source vertex 1 to 3, outside the target's 3"), std::string::npos);
+  EXPECT_NE(fit_error({0, 1, -1}).find("source vertex 2 to -1"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace isocorr

@@ -123,4 +123,14 @@ std::vector<int> parse_map(const std::string& bytes, const std::string& path) {
   return parse_text_map(bytes, path);
 }
 
+void check_map_fits(const std::vector<int>& map, int source_vertices, int target_vertices) {
+  if (map.size() != static_cast<size_t>(source_vertices))
+    throw InputError("the map has " + std::to_string(map.size()) + " entries but the source has " +
+                     std::to_string(source_vertices) + " vertices");
+  for (size_t v = 0; v < map.size(); ++v)
+    if (map[v] < 0 || map[v] >= target_vertices)
+      throw InputError("the map sends source vertex " + std::to_string(v) + " to " + std::to_string(map[v]) +
+                       ", outside the target's " + std::to_string(target_vertices) + " vertices");
+}
+
 }  // namespace isocorr

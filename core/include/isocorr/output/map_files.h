@@ -21,4 +21,7 @@ std::vector<int> read_map(const std::string& path);
 // The same for a map already in memory; `name` stands for the file in messages.
 std::vector<int> parse_map(const std::string& bytes, const std::string& name);
 
+// Throws InputError unless `map` has one entry per source vertex, each a target vertex.
+void check_map_fits(const std::vector<int>& map, int source_vertices, int target_vertices);
+
 }  // namespace isocorr
