@@ -40,8 +40,11 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
     if (distinct) picked.push_back(index);
   }
 
-  const SpectralSide source_side{&source.spectral_basis(), &source.geodesics().topology(), &source.spectral_samples()};
-  const SpectralSide target_side{&target.spectral_basis(), &target.geodesics().topology(), &target.spectral_samples()};
+  auto side_of = [](const PreprocessedShape& shape) {
+    return SpectralSide{&shape.spectral_basis(), &shape.geodesics().topology(), &shape.spectral_samples(),
+                        &shape.spectral_eigenvalues()};
+  };
+  const SpectralSide source_side = side_of(source), target_side = side_of(target);
   ZoomOutOptions options = settings.zoomout;
   options.threads = settings.threads;
   RefinedMatch result;

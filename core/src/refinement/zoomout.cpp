@@ -3,10 +3,8 @@
 #include <algorithm>
 #include <limits>
 
-#include <Eigen/Cholesky>
-#include <Eigen/SVD>
-
 #include "isocorr/matching/surface_descent.h"
+#include "isocorr/refinement/functional_map_fit.h"
 #include "isocorr/sampling/vertex_spreading.h"
 #include "isocorr/util/error.h"
 #include "isocorr/util/parallel.h"
@@ -14,29 +12,12 @@
 namespace isocorr {
 namespace {
 
-using RowMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using RowMatrix = SpectralRows;
 
 RowMatrix gather_rows(const RowMatrix& basis, const std::vector<int>& rows, int k) {
   RowMatrix out(rows.size(), k);
   for (size_t i = 0; i < rows.size(); ++i) out.row(i) = basis.row(rows[i]).head(k);
   return out;
-}
-
-// C (k x k) with a[i] C ~ b[i] for every pair: least squares (normal equations in double,
-// with a tiny ridge so that a rank-deficient start still solves), then the nearest
-// orthogonal matrix. The functional map of an isometry between area-normalised,
-// mass-orthonormal bases is orthogonal; the plain least-squares C is not when some pairs
-// are wrong: wrong pairs are uncorrelated with the rest and shrink C towards 0 by their
-// share, and shrunk queries then favour small-norm rows in the nearest-neighbour search,
-// a bias the iterations never leave (measured: 81% exact on a perfect copy from a start
-// with a quarter of the pairs wrong, against exact with the projection).
-Eigen::MatrixXf fit_functional_map(const RowMatrix& a, const RowMatrix& b) {
-  const Eigen::MatrixXd ad = a.cast<double>(), bd = b.cast<double>();
-  Eigen::MatrixXd normal = ad.transpose() * ad;
-  normal.diagonal().array() += 1e-9 * std::max(1.0, normal.diagonal().maxCoeff());
-  const Eigen::MatrixXd c = normal.ldlt().solve(ad.transpose() * bd);
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(c, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  return (svd.matrixU() * svd.matrixV().transpose()).cast<float>();
 }
 
 // For every row of `queries`, the index of the nearest row of `points` (squared Euclidean),
@@ -111,6 +92,10 @@ SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
   const int threads = resolve_thread_count(options.threads);
   const std::vector<int>& source_samples = *source.samples;
   const std::vector<int>& target_samples = *target.samples;
+  FunctionalMapFit fit;
+  fit.source_eigenvalues = source.eigenvalues;
+  fit.target_eigenvalues = target.eigenvalues;
+  fit.commutativity = options.commutativity;
 
   // The first functional map from the starting pairs, then iterations on the samples:
   // map the source samples (nearest target samples in the spectral embedding), refit C
@@ -119,11 +104,11 @@ SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
   // snapped to target samples would bias C by up to a sample spacing.
   std::vector<int> from, to;
   for (const auto& [s, t] : start) from.push_back(s), to.push_back(t);
-  Eigen::MatrixXf c = fit_functional_map(gather_rows(phi_s, from, k_start), gather_rows(phi_t, to, k_start));
+  Eigen::MatrixXf c = fit_functional_map(gather_rows(phi_s, from, k_start), gather_rows(phi_t, to, k_start), fit);
   std::vector<int> images(source_samples.size());  // source sample -> target vertex
   for (int k = k_start;; k = std::min(k + std::max(1, options.k_step), k_end)) {
     control.check_cancelled();
-    if (c.rows() != k) c = fit_functional_map(gather_rows(phi_s, source_samples, k), gather_rows(phi_t, images, k));
+    if (c.rows() != k) c = fit_functional_map(gather_rows(phi_s, source_samples, k), gather_rows(phi_t, images, k), fit);
     const RowMatrix queries = gather_rows(phi_s, source_samples, k) * c;
     const std::vector<int> nearest = nearest_rows(queries, gather_rows(phi_t, target_samples, k), threads);
     parallel_for(static_cast<int>(images.size()), threads, [&](int i, int) {
@@ -143,7 +128,7 @@ SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
                 threads, result.image, result.residual);
   for (int iteration = 0; iteration < options.dense_iterations; ++iteration) {
     control.check_cancelled();
-    c = fit_functional_map(source_rows, gather_rows(target_rows, result.image, k_end));
+    c = fit_functional_map(source_rows, gather_rows(target_rows, result.image, k_end), fit);
     pulled = source_rows * c;
     const std::vector<int> start = result.image;
     recover_dense(pulled, target_rows, *target.topology, start, threads, result.image, result.residual);

@@ -93,8 +93,10 @@ std::shared_ptr<const PreprocessedShape> PreprocessedShape::build(const Triangle
   if (basis.valid()) {
     // Mass-orthonormal eigenvectors scaled by sqrt(area): the same shape at another scale
     // gets the same embedding, so spectral distances compare across meshes.
-    shape->spectral_basis_ = (basis.get().eigenvectors * std::sqrt(shape->area_)).cast<float>();
+    const LaplaceBasis solved = basis.get();
+    shape->spectral_basis_ = (solved.eigenvectors * std::sqrt(shape->area_)).cast<float>();
     shape->spectral_samples_ = spread_vertices(mesh, options.spectral_samples);
+    shape->spectral_eigenvalues_ = (solved.eigenvalues * shape->area_).cast<float>();
   }
   return shape;
 }

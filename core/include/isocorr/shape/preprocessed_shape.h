@@ -72,6 +72,8 @@ class PreprocessedShape {
   using SpectralBasis = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   const SpectralBasis& spectral_basis() const { return spectral_basis_; }
   const std::vector<int>& spectral_samples() const { return spectral_samples_; }
+  // Its eigenvalues times the area (scale-invariant, like the basis), ascending.
+  const Eigen::VectorXf& spectral_eigenvalues() const { return spectral_eigenvalues_; }
 
   size_t memory_bytes() const;
 
@@ -89,6 +91,7 @@ class PreprocessedShape {
   std::vector<float> fields_;
   SpectralBasis spectral_basis_;
   std::vector<int> spectral_samples_;
+  Eigen::VectorXf spectral_eigenvalues_;
 };
 
 }  // namespace isocorr

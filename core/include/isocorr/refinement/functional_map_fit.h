@@ -1,0 +1,26 @@
+// The functional map of a set of point pairs: the k x k matrix C with a[i] C ~ b[i], where
+// a[i] and b[i] are the rows of the source and target eigenbases at pair i.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace isocorr {
+
+using SpectralRows = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+struct FunctionalMapFit {
+  // Eigenvalues of both bases (first k used; area-scaled like the bases). When both are
+  // given and `commutativity` > 0, the fit also asks C to commute with the Laplacians.
+  const Eigen::VectorXf* source_eigenvalues = nullptr;
+  const Eigen::VectorXf* target_eigenvalues = nullptr;
+  double commutativity = 0;
+};
+
+// Least squares (normal equations in double, a tiny ridge so that a rank-deficient start
+// still solves), plus, with eigenvalues, the Laplacian commutativity term
+//   commutativity * n * sum_ij ((lambda_S,i - lambda_T,j) / lambda_T,k)^2 C_ij^2
+// (n pairs, so the weight does not depend on how many pairs there are; lambda_T,k, the
+// largest eigenvalue used, makes it scale-free), then the nearest orthogonal matrix.
+Eigen::MatrixXf fit_functional_map(const SpectralRows& a, const SpectralRows& b, const FunctionalMapFit& fit = {});
+
+}  // namespace isocorr

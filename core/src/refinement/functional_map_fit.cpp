@@ -1,0 +1,49 @@
+#include "isocorr/refinement/functional_map_fit.h"
+
+#include <algorithm>
+
+#include <Eigen/Cholesky>
+#include <Eigen/SVD>
+
+namespace isocorr {
+
+// Why the commutativity term: an isometry's functional map only mixes eigenfunctions of
+// (nearly) equal eigenvalue. A map with local errors puts weight on entries that mix
+// distant frequencies; the term pulls those towards 0 without touching the near-diagonal
+// blocks. Measured on SCAPE 000->001..005: D_grd 0.0099 without it, 0.0093 with weight 10
+// (and more mirrored FAUST maps: see ZoomOutOptions::commutativity).
+//
+// Why the projection: the functional map of an isometry between area-normalised,
+// mass-orthonormal bases is orthogonal; the plain least-squares C is not when some pairs
+// are wrong: wrong pairs are uncorrelated with the rest and shrink C towards 0 by their
+// share, and shrunk queries then favour small-norm rows in the nearest-neighbour search,
+// a bias the iterations never leave (measured: 81% exact on a perfect copy from a start
+// with a quarter of the pairs wrong, against exact with the projection).
+Eigen::MatrixXf fit_functional_map(const SpectralRows& a, const SpectralRows& b, const FunctionalMapFit& fit) {
+  const int k = static_cast<int>(a.cols());
+  const Eigen::MatrixXd ad = a.cast<double>(), bd = b.cast<double>();
+  Eigen::MatrixXd normal = ad.transpose() * ad;
+  normal.diagonal().array() += 1e-9 * std::max(1.0, normal.diagonal().maxCoeff());
+  const Eigen::MatrixXd rhs = ad.transpose() * bd;
+  Eigen::MatrixXd c(k, k);
+  const bool commute = fit.commutativity > 0 && fit.source_eigenvalues && fit.target_eigenvalues &&
+                       fit.source_eigenvalues->size() >= k && fit.target_eigenvalues->size() >= k && k > 1;
+  if (commute) {
+    const Eigen::ArrayXd source_values = fit.source_eigenvalues->head(k).cast<double>().array();
+    const Eigen::ArrayXd target_values = fit.target_eigenvalues->head(k).cast<double>().array();
+    const double largest = std::max(1e-12, target_values(k - 1));
+    const double weight = fit.commutativity * static_cast<double>(a.rows()) / (largest * largest);
+    // Column j of C solves its own system: the term only adds to the diagonal.
+    for (int j = 0; j < k; ++j) {
+      Eigen::MatrixXd system = normal;
+      system.diagonal().array() += weight * (source_values - target_values(j)).square();
+      c.col(j) = system.ldlt().solve(rhs.col(j));
+    }
+  } else {
+    c = normal.ldlt().solve(rhs);
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(c, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  return (svd.matrixU() * svd.matrixV().transpose()).cast<float>();
+}
+
+}  // namespace isocorr
