@@ -38,5 +38,6 @@ using RemoteMatchRunner = std::function<std::optional<int>(const MatchJobFiles&)
 void register_match_command(CLI::App& app, int& exit_code, RemoteMatchRunner remote = {});
 void register_eval_command(CLI::App& app, int& exit_code);
 void register_render_command(CLI::App& app, int& exit_code);
+void register_cut_command(CLI::App& app, int& exit_code);
 
 }  // namespace isocorr::cli

@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
 #endif
   isocorr::cli::register_eval_command(app, exit_code);
   isocorr::cli::register_render_command(app, exit_code);
+  isocorr::cli::register_cut_command(app, exit_code);
   app.parse_complete_callback([&] { spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info); });
   try {
     app.parse(argc, argv);

@@ -29,6 +29,11 @@ void add_match_settings_flags(CLI::App& app, MatchSettings& settings) {
         ->default_str(field.format(defaults))
         ->group("Matching settings");
   }
+  app.add_flag_callback(
+         "--partial", [&settings] { settings.method = MatchMethod::kPart; },
+         "the source is a part of the target's shape (short for --method part): the reverse map has -1 "
+         "where the target has no counterpart")
+      ->group("Matching settings");
 }
 
 }  // namespace isocorr::cli

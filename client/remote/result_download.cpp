@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "codec/result_part_codec.h"
+#include "isocorr/output/map_files.h"
 #include "isocorr/util/error.h"
 #include "remote/rpc_error.h"
 
@@ -21,7 +22,9 @@ void append_chunk(std::vector<T>& out, const v1::ResultChunk& chunk, const Value
 
 // A map the server sent must have one entry per vertex of its mesh, each a vertex of the
 // other mesh: a corrupted result is refused here rather than written.
-void check_map(const char* what, const std::vector<int>& map, int64_t vertices, int64_t other_vertices) {
+// A reverse map may mark target vertices without a counterpart (a part's match).
+void check_map(const char* what, const std::vector<int>& map, int64_t vertices, int64_t other_vertices,
+               bool may_have_no_counterpart) {
   auto refuse = [&](const std::string& problem) {
     throw RpcError("download", grpc::Status(grpc::StatusCode::DATA_LOSS,
                                             std::string("the server sent a corrupted ") + what + " map (" + problem +
@@ -30,7 +33,7 @@ void check_map(const char* what, const std::vector<int>& map, int64_t vertices, 
   if (static_cast<int64_t>(map.size()) != vertices)
     refuse(std::to_string(map.size()) + " entries for " + std::to_string(vertices) + " vertices");
   for (size_t i = 0; i < map.size(); ++i)
-    if (map[i] < 0 || map[i] >= other_vertices)
+    if (map[i] >= other_vertices || (map[i] < 0 && !(may_have_no_counterpart && map[i] == kNoCounterpart)))
       refuse("entry " + std::to_string(i) + " is " + std::to_string(map[i]) + ", outside the other mesh's " +
              std::to_string(other_vertices) + " vertices");
 }
@@ -68,8 +71,8 @@ MatchOutput download_result(Connection& connection, const std::string& job_name,
   const int64_t sources = job.result().source_vertex_count(), targets = job.result().target_vertex_count();
   const bool all = parts.empty();
   auto asked = [&](ResultPart part) { return all || std::find(parts.begin(), parts.end(), part) != parts.end(); };
-  if (asked(ResultPart::kForwardMap)) check_map("forward", result.forward, sources, targets);
-  if (asked(ResultPart::kReverseMap)) check_map("reverse", result.reverse, targets, sources);
+  if (asked(ResultPart::kForwardMap)) check_map("forward", result.forward, sources, targets, false);
+  if (asked(ResultPart::kReverseMap)) check_map("reverse", result.reverse, targets, sources, true);
   return result;
 }
 

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "isocorr/output/map_files.h"
 #include "isocorr/util/sha256.h"
 
 namespace isocorr::server {
@@ -67,8 +68,9 @@ std::string result_part_problem(const json& manifest, ResultPart part, const std
     const std::vector<int> map = values_from_bytes<int>(bytes);
     if (map.size() != count || bytes.size() % sizeof(int) != 0)
       return name + " has " + std::to_string(map.size()) + " entries for " + std::to_string(count) + " vertices";
+    // A part's reverse map marks target vertices without counterpart (method = part).
     for (const int index : map)
-      if (index < 0 || index >= limit)
+      if (index >= limit || (index < 0 && (forward || index != kNoCounterpart)))
         return name + " holds index " + std::to_string(index) + ", outside the other mesh's " +
                std::to_string(limit) + " vertices";
   }

@@ -1,4 +1,5 @@
 // The `isocorr` binary as a user runs it: exit codes, map files, report, bad input.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -68,6 +69,40 @@ TEST_F(MatchCommand, WritesMapsAndReportThatEvalScores) {
   const nlohmann::json score = nlohmann::json::parse(eval.output.substr(eval.output.find('{')));
   EXPECT_TRUE(score["flip_free"].get<bool>());
   EXPECT_LT(score["d_grd"].get<double>(), 0.01);
+}
+
+TEST_F(MatchCommand, CutPartMatchesWithPartialAndItsReverseMapMarksTheRest) {
+  const fs::path part = *dir_ / "meshes/part.ply", index_map = *dir_ / "part_to_creature.txt";
+  const ShellRun cut = run_shell(cli_ + " cut " + (*dir_ / "meshes/creature.ply").string() + " -o " + part.string() +
+                                 " --index-map " + index_map.string() + " --cut ball --keep 0.9 --seed 3");
+  ASSERT_EQ(cut.exit_code, 0) << cut.output;
+  // The part's ground truth on the moved creature: its index map composed with the pair's.
+  const std::vector<int> part_to_full = read_lines(index_map), full_to_moved = read_lines(*dir_ / "gt/creature_to_moved.txt");
+  {
+    std::ofstream gt(*dir_ / "gt/part_to_moved.txt");
+    for (int v : part_to_full) gt << full_to_moved.at(v) << '\n';
+  }
+
+  const fs::path map = *dir_ / "part.map", reverse = *dir_ / "part.reverse.map", report = *dir_ / "part.json";
+  const ShellRun match = run_shell(cli_ + " match " + part.string() + " " + (*dir_ / "meshes/creature_moved.ply").string() +
+                                   " --partial -o " + map.string() + " --reverse-out " + reverse.string() +
+                                   " --report " + report.string());
+  ASSERT_EQ(match.exit_code, 0) << match.output;
+  EXPECT_NE(match.output.find("of the target's area matched"), std::string::npos) << match.output;
+  const std::vector<int> back = read_lines(reverse);
+  ASSERT_EQ(back.size(), full_to_moved.size());
+  const long unmatched = std::count(back.begin(), back.end(), -1);
+  EXPECT_GT(unmatched, 0.02 * back.size());
+  EXPECT_LT(unmatched, 0.3 * back.size());
+  std::ifstream in(report);
+  const nlohmann::json json = nlohmann::json::parse(in);
+  EXPECT_EQ(json["settings"]["method"], "part");
+  EXPECT_NEAR(json["part"]["target_matched_share"].get<double>(), 0.9, 0.1);
+
+  const ShellRun eval = run_shell(cli_ + " eval " + map.string() + " --dataset " + dir_->string() + " --source meshes/part.ply --target meshes/creature_moved.ply --gt-kind index_map:gt/part_to_moved.txt --json");
+  ASSERT_EQ(eval.exit_code, 0) << eval.output;
+  const nlohmann::json score = nlohmann::json::parse(eval.output.substr(eval.output.find('{')));
+  EXPECT_LT(score["d_grd"].get<double>(), 0.03);
 }
 
 TEST_F(MatchCommand, EvalReadsTheBinaryMapMatchWrites) {

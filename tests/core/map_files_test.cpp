@@ -86,7 +86,7 @@ TEST_F(MapFiles, TextToleratesCarriageReturnsSpacesAndTrailingBlankLines) {
 }
 
 TEST_F(MapFiles, MalformedTextNamesTheLine) {
-  EXPECT_NE(read_error(write("bad.txt", "3\n-1\n2\n")).find("bad.txt:2"), std::string::npos);  // negative
+  EXPECT_NE(read_error(write("bad.txt", "3\n-2\n2\n")).find("bad.txt:2"), std::string::npos);  // negative
   EXPECT_NE(read_error(write("bad.txt", "3\n1.5\n")).find("bad.txt:2"), std::string::npos);     // not an integer
   EXPECT_NE(read_error(write("bad.txt", "3\n\n2\n")).find("bad.txt:2"), std::string::npos);     // blank inside
   EXPECT_NE(read_error(write("bad.txt", "3 4\n")).find("bad.txt:1"), std::string::npos);       // two values
@@ -114,8 +114,15 @@ TEST_F(MapFiles, MalformedBinaryNamesTheProblem) {
   const std::string huge = read_error(write("huge.bin", binary_map(0xffffffffu, {1})));
   EXPECT_NE(huge.find("truncated"), std::string::npos) << huge;
 
-  const std::string negative = read_error(write("negative.bin", binary_map(3, {4, -1, 6})));
-  EXPECT_NE(negative.find("vertex 1 maps to the negative index -1"), std::string::npos) << negative;
+  const std::string negative = read_error(write("negative.bin", binary_map(3, {4, -2, 6})));
+  EXPECT_NE(negative.find("vertex 1 maps to the negative index -2"), std::string::npos) << negative;
+}
+
+TEST_F(MapFiles, MinusOneMarksAVertexWithoutCounterpartInBothFormats) {
+  for (const std::string name : {"part.txt", "part.bin"}) {
+    write_map(path(name), {3, kNoCounterpart, 0});
+    EXPECT_EQ(read_map(path(name)), (std::vector<int>{3, -1, 0})) << name;
+  }
 }
 
 TEST_F(MapFiles, MissingFile) {
@@ -135,6 +142,10 @@ TEST(MapFit, OneTargetVertexPerSourceVertex) {
   EXPECT_NE(fit_error({0, 1}).find("2 entries but the source has 3"), std::string::npos);
   EXPECT_NE(fit_error({0, 3, 1}).find("source vertex 1 to 3, outside the target's 3"), std::string::npos);
   EXPECT_NE(fit_error({0, 1, -1}).find("source vertex 2 to -1"), std::string::npos);
+  // -1 marks a vertex without counterpart, allowed only where the caller says so (the
+  // reverse map of a part); no other negative index is.
+  EXPECT_NO_THROW(check_map_fits({0, -1, 2}, 3, 3, true));
+  EXPECT_THROW(check_map_fits({0, -2, 2}, 3, 3, true), InputError);
 }
 
 }  // namespace

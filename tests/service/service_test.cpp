@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -176,6 +177,37 @@ TEST_F(Service, SubmitWatchWaitDownload) {
 
   const CommandRun list = server.client("list --json");
   EXPECT_EQ(last_json(list)["name"], job);
+}
+
+TEST_F(Service, PartMatchKeepsItsUnmatchedTargetVerticesThroughStoreAndRestart) {
+  const fs::path part = data_dir() / "part.ply", index_map = data_dir() / "part_index.txt";
+  fs::create_directories(data_dir());
+  const CommandRun cut = run_command(std::string(ISOCORR_CLI_PATH) + " cut " + path("creature.ply").string() + " -o " +
+                                     part.string() + " --index-map " + index_map.string() + " --keep 0.9 --seed 3");
+  ASSERT_EQ(cut.exit_code, 0) << cut.err;
+  std::string job;
+  {
+    ServerProcess server(data_dir());
+    const CommandRun submit =
+        server.client("submit " + part.string() + " " + path("creature_moved.ply").string() + " --partial --json");
+    ASSERT_EQ(submit.exit_code, 0) << submit.err;
+    job = last_json(submit)["name"];
+    const CommandRun wait = server.client("wait " + job + " --json");
+    ASSERT_EQ(last_json(wait)["state"], "SUCCEEDED") << wait.out << wait.err;
+  }
+  // After a restart the stored reverse map, -1 entries included, passes the integrity check.
+  ServerProcess server(data_dir());
+  const fs::path reverse = data_dir() / "part.rmap", report = data_dir() / "part.json";
+  const CommandRun download = server.client("download " + job + " -o " + (data_dir() / "part.map").string() +
+                                            " --reverse-out " + reverse.string() + " --report " + report.string());
+  ASSERT_EQ(download.exit_code, 0) << download.err;
+  const std::vector<int> back = read_ints(reverse);
+  ASSERT_EQ(back.size(), truth_->size());
+  const long unmatched = std::count(back.begin(), back.end(), -1);
+  EXPECT_GT(unmatched, 0.02 * back.size());
+  EXPECT_LT(unmatched, 0.3 * back.size());
+  std::ifstream in(report);
+  EXPECT_EQ(json::parse(in)["settings"]["method"], "part");
 }
 
 TEST_F(Service, CancelEndsJobCancelled) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "isocorr/matching/orientation.h"
+#include "isocorr/partial/part_matching.h"
 #include "isocorr/refinement/refinement.h"
 #include "isocorr/util/parallel.h"
 
@@ -17,6 +18,8 @@ Eigen::MatrixXd sample_distances(const PreprocessedShape& shape, int count) {
       d(i, j) = 0.5 * (shape.field(i, shape.sample_vertex(j)) + shape.field(j, shape.sample_vertex(i)));
   return d;
 }
+
+}  // namespace
 
 // Orientation rule: a mirrored map, or one with a limb pair swapped, reverses the
 // handedness of part of the surface, so only maps whose orientation agreement is within
@@ -43,11 +46,11 @@ std::vector<int> rank_tracked(const std::vector<TrackedMap>& tracked, const Matc
   return order;
 }
 
-}  // namespace
+namespace {
 
-MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShape& target,
-                         const MatchSettings& settings, const JobControl& control) {
-  MatchResult result;
+// Complete shapes: level 0, flip tracking, then the C2F dense level or refinement.
+DenseMap match_complete(const PreprocessedShape& source, const PreprocessedShape& target,
+                        const MatchSettings& settings, MatchResult& result, const JobControl& control) {
   StageClock clock(result.timings);
   const int levels = std::min(source.options().decision_level, target.options().decision_level);
   const int total_levels = levels + 1;  // levels 0..K1, then the dense level
@@ -106,8 +109,27 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
     result.chosen = result.refined[result.refined_chosen].tracked_index;
     clock.finish("refine");
   }
+  return dense;
+}
 
-  // Back to the files' numbering.
+// Share of the target's area whose vertices have a counterpart.
+double matched_area_share(const PreprocessedShape& target, const std::vector<int>& reverse) {
+  const std::vector<double> areas = vertex_areas(target.mesh());
+  double matched = 0, total = 0;
+  for (size_t t = 0; t < areas.size(); ++t) total += areas[t], matched += reverse[t] >= 0 ? areas[t] : 0;
+  return total > 0 ? matched / total : 0;
+}
+
+}  // namespace
+
+MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShape& target,
+                         const MatchSettings& settings, const JobControl& control) {
+  MatchResult result;
+  const DenseMap dense = settings.method == MatchMethod::kPart
+                             ? match_part(source, target, settings, result, control)
+                             : match_complete(source, target, settings, result, control);
+
+  // Back to the files' numbering; -1 (no counterpart) stays -1.
   const CleanMesh& sc = source.clean();
   const CleanMesh& tc = target.clean();
   MatchOutput& out = result.output;
@@ -122,7 +144,7 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
   out.reverse_confidence.resize(tc.input_to_clean.size());
   for (size_t i = 0; i < tc.input_to_clean.size(); ++i) {
     const int c = tc.input_to_clean[i];
-    out.reverse[i] = sc.clean_to_input[dense.reverse[c]];
+    out.reverse[i] = dense.reverse[c] < 0 ? -1 : sc.clean_to_input[dense.reverse[c]];
     out.reverse_confidence[i] = dense.reverse_diso[c];
   }
   if (result.refined.empty()) {
@@ -139,9 +161,10 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
                                  ? dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
                                                              target.normals(), dense.forward)
                                  : result.refined[result.refined_chosen].evidence.orientation;
+  if (settings.method == MatchMethod::kPart) result.target_matched_share = matched_area_share(target, dense.reverse);
   for (const auto& note : sc.repairs) result.notes.push_back("source: " + note);
   for (const auto& note : tc.repairs) result.notes.push_back("target: " + note);
-  control.report({"done", total_levels, total_levels, 1.0});
+  control.report({"done", 1, 1, 1.0});
   return result;
 }
 

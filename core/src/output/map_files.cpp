@@ -45,7 +45,8 @@ std::vector<int> parse_binary_map(std::string_view bytes, const std::string& pat
   std::vector<int> map(count);
   for (uint32_t k = 0; k < count; ++k) {
     map[k] = static_cast<int32_t>(load_le32(bytes, kBinaryHeaderBytes + 4 * static_cast<size_t>(k)));
-    if (map[k] < 0) fail(path, "vertex " + std::to_string(k) + " maps to the negative index " + std::to_string(map[k]));
+    if (map[k] < kNoCounterpart)
+      fail(path, "vertex " + std::to_string(k) + " maps to the negative index " + std::to_string(map[k]));
   }
   return map;
 }
@@ -68,8 +69,8 @@ std::vector<int> parse_text_map(const std::string& bytes, const std::string& pat
     const char* first = begin == std::string::npos ? s.data() : s.data() + begin;
     const char* last = begin == std::string::npos ? s.data() : s.data() + end + 1;
     auto [ptr, ec] = std::from_chars(first, last, value);
-    if (begin == std::string::npos || ec != std::errc() || ptr != last || value < 0)
-      fail(path + ":" + std::to_string(k + 1), "expected one non-negative vertex index, found '" + s + "'");
+    if (begin == std::string::npos || ec != std::errc() || ptr != last || value < kNoCounterpart)
+      fail(path + ":" + std::to_string(k + 1), "expected one vertex index (or -1), found '" + s + "'");
     map.push_back(value);
   }
   return map;
@@ -123,12 +124,12 @@ std::vector<int> parse_map(const std::string& bytes, const std::string& path) {
   return parse_text_map(bytes, path);
 }
 
-void check_map_fits(const std::vector<int>& map, int source_vertices, int target_vertices) {
+void check_map_fits(const std::vector<int>& map, int source_vertices, int target_vertices, bool may_have_no_counterpart) {
   if (map.size() != static_cast<size_t>(source_vertices))
     throw InputError("the map has " + std::to_string(map.size()) + " entries but the source has " +
                      std::to_string(source_vertices) + " vertices");
   for (size_t v = 0; v < map.size(); ++v)
-    if (map[v] < 0 || map[v] >= target_vertices)
+    if (map[v] >= target_vertices || (map[v] < 0 && !(may_have_no_counterpart && map[v] == kNoCounterpart)))
       throw InputError("the map sends source vertex " + std::to_string(v) + " to " + std::to_string(map[v]) +
                        ", outside the target's " + std::to_string(target_vertices) + " vertices");
 }

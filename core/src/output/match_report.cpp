@@ -47,6 +47,14 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
                      {"orientation", result.dense_orientation},
                      {"source_vertices", result.output.forward.size()},
                      {"target_vertices", result.output.reverse.size()}};
+  if (settings.method == MatchMethod::kPart) {
+    long matched = 0;
+    for (int s : result.output.reverse) matched += s >= 0;
+    // The reverse map has -1 where the target has no counterpart in the part.
+    report["part"] = {{"scale", result.part_scale},
+                      {"target_matched_share", result.target_matched_share},
+                      {"target_vertices_matched", matched}};
+  }
   report["notes"] = result.notes;
   return report.dump(2);
 }

@@ -115,6 +115,13 @@ std::vector<SettingField> build_schema() {
           "dense level: anchors weigh 1/(distance + this); 0 = plain d_iso",
           [](auto& s) -> auto& { return s.dense.locality; }),
       // Refinement and the choice by dense evidence.
+      // Which problem: complete shapes, or a part of the target's shape.
+      row("method", kMatch, {}, "full (both meshes complete) or part (the source is a part of the target's shape)",
+          [](auto& s) -> auto& { return s.method; }, {"full", "part"}),
+      row("part_extremities", kMatch, closed(3, 7), "part matching: source extremities matched combinatorially (M)",
+          [](auto& s) -> auto& { return s.part_extremities; }),
+      row("part_candidates", kMatch, closed(1, 64), "part matching: best extremity maps grown to sample maps and compared",
+          [](auto& s) -> auto& { return s.part_candidates; }),
       row("refine", kMatch, {}, "after tracking: zoomout (spectral refinement, choice by dense evidence) or none (the C2F dense level)",
           [](auto& s) -> auto& { return s.refine; }, {"zoomout", "none"}),
       row("refine_candidates", kMatch, closed(1, 32), "distinct tracked maps refined and compared by dense evidence",

@@ -41,9 +41,18 @@ struct MatchResult {
   double dense_orientation = 0;           // fraction of source faces keeping handedness
   std::vector<StageTiming> timings;
   std::vector<std::string> notes;         // repairs and remarks, for the report
+  // method = part: the source's scale per target unit, and the share of the target's area
+  // the part's image covers (reverse map -1 elsewhere).
+  double part_scale = 0;
+  double target_matched_share = 1;
 
   MatchSummary summary() const;
 };
+
+// The choice among tracked maps: those whose orientation agreement is within
+// settings.orientation_margin of the best compete on D_iso - weight * orientation; returns
+// all indices, best first.
+std::vector<int> rank_tracked(const std::vector<TrackedMap>& tracked, const MatchSettings& settings);
 
 // Matches two preprocessed shapes. `settings` must have passed validate() (run_match
 // does that once). Deterministic for given inputs and settings. Reports progress as

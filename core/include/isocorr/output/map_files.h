@@ -6,6 +6,10 @@
 
 namespace isocorr {
 
+// The entry of a vertex without a counterpart: target vertices outside the image of a part
+// (method = part) in a reverse map.
+inline constexpr int kNoCounterpart = -1;
+
 // Text: one 0-based target index per line, in source vertex order.
 void write_map_text(const std::string& path, const std::vector<int>& map);
 // Binary: "ICMAP1\0\0", uint32 count, then count little-endian int32 indices.
@@ -16,12 +20,14 @@ void write_map(const std::string& path, const std::vector<int>& map);
 // Reads a map in either format: binary when the file starts with the ICMAP1 magic, whatever
 // its name, text otherwise (blank lines at the end are ignored). Throws InputError naming
 // the file and the problem: a truncated binary map, a count that disagrees with the data,
-// a text line that is not one integer, a negative index.
+// a text line that is not one integer, a negative index other than -1 (kNoCounterpart).
 std::vector<int> read_map(const std::string& path);
 // The same for a map already in memory; `name` stands for the file in messages.
 std::vector<int> parse_map(const std::string& bytes, const std::string& name);
 
-// Throws InputError unless `map` has one entry per source vertex, each a target vertex.
-void check_map_fits(const std::vector<int>& map, int source_vertices, int target_vertices);
+// Throws InputError unless `map` has one entry per source vertex, each a target vertex
+// (or kNoCounterpart when `may_have_no_counterpart`: the reverse map of a part).
+void check_map_fits(const std::vector<int>& map, int source_vertices, int target_vertices,
+                    bool may_have_no_counterpart = false);
 
 }  // namespace isocorr

@@ -15,6 +15,11 @@ enum class RefineMethod {
   kNone,     // the C2F dense level alone (anchor descriptors + descent): the paper's pipeline
 };
 
+enum class MatchMethod {
+  kFull,  // default: both meshes are complete shapes (C2F with flip tracking)
+  kPart,  // the source is a part of the target's shape, at any scale (partial/part_matching.h)
+};
+
 enum class SelectionRule {
   kOrientationThenDistortion,  // default: keep the tracked maps that best keep orientation, then least D_iso
   kLeastDistortion,            // the paper's rule: least D_iso at level K1
@@ -22,6 +27,11 @@ enum class SelectionRule {
 
 struct MatchSettings {
   PreprocessOptions preprocess;     // per-mesh part (cached per mesh by the service)
+  MatchMethod method = MatchMethod::kFull;
+  // Part matching: source extremities matched combinatorially (paper: M = 5), and the best
+  // extremity maps grown to sample maps, one of which is chosen (symmetric flips).
+  int part_extremities = 5;
+  int part_candidates = 16;  // half by extremity distortion, half by screening (part_matching.cpp)
   // M (paper: up to 8). 0 = automatic: the number of extremities of the source, within
   // [5, 7]. Samples beyond the extremities are poorly aligned between two meshes and
   // mislead tracking: on 12 SCAPE pairs M = 5 gave 75% flip-free against 58% for M = 7,

@@ -1,0 +1,38 @@
+// Part matching (Sahillioglu & Yemez, PG'12, as summarised in papers/000): the source is a
+// part of the target's shape, such as a scan with a missing limb or half a body, at a
+// scale that need not be the target's.
+//
+// 1. Extremities: the source's extremity samples away from its boundary (a cut makes
+//    false extremities along its rim) are matched to the target's level-0 samples over all
+//    injective maps, ranked by a scale-free distortion on raw geodesics (kappa, source
+//    units per target unit, from each map's exact distances), since a part's geodesic
+//    diameter says nothing about its scale; kappa below sqrt(part area / target area) is
+//    impossible.
+// 2. Screening: few extremities, or distances all lengthened by a cut, leave many maps
+//    equally consistent, so every map also grows the first levels' samples; the candidates
+//    are half the best by step 1 and half the best screened.
+// 3. Each candidate's source samples are matched coarse to fine to target samples against
+//    all pairs matched before (near the parent's image, handedness kept, at its kappa
+//    re-estimated from trusted matches), extended to every vertex, and the map keeping
+//    face handedness best, then of least distortion, wins (symmetric flips).
+// 4. The winner's anchors move to vertex accuracy; every source vertex is matched by
+//    descent of their weighted mismatch; a target vertex gets a source vertex only where
+//    the part's image covers it (-1 elsewhere).
+//
+// Boundary awareness: removing surface can only lengthen geodesics, and only those whose
+// path could touch the cut: a source distance g(x, y) is the full shape's when
+// g(x, y) < b(x) + b(y), b = distance to the boundary. Other distances are upper bounds:
+// a target distance longer than them is penalised, a shorter one is not. So nothing is
+// down-weighted by a guessed band: every term is either exact or one-sided.
+#pragma once
+
+#include "isocorr/matching/matcher.h"
+
+namespace isocorr {
+
+// Fills `result` (level0, tracked, chosen, notes) and returns the dense map of clean
+// vertices; dense.reverse holds -1 for target vertices outside the part's image.
+DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& target, const MatchSettings& settings,
+                    MatchResult& result, const JobControl& control);
+
+}  // namespace isocorr

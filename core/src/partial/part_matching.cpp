@@ -1,0 +1,532 @@
+#include "isocorr/partial/part_matching.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <limits>
+#include <queue>
+
+#include "isocorr/matching/orientation.h"
+#include "isocorr/matching/surface_descent.h"
+#include "isocorr/util/error.h"
+#include "isocorr/util/parallel.h"
+
+namespace isocorr {
+namespace {
+
+// Extremity samples this close to the boundary (fraction of the part's diameter, the
+// saliency's extremity radius) are the rim of a cut, not a tip of the shape.
+constexpr double kRimBand = 0.08;
+// Terms of a sample's cost above this quantile are ignored: robust to a few misplaced pairs.
+constexpr double kTrimmedShare = 0.2;
+// Dense anchors weigh 1 / (distance + kLocality): near pairs count more (as the C2F dense level).
+constexpr double kLocality = 0.05;
+// A target vertex is covered by the part's image when an image lies within this many
+// mean edge lengths of it.
+constexpr double kCoverEdges = 2.5;
+// Near-isometric meshes differ in area by a few per cent: the area bound on kappa allows it.
+constexpr double kAreaSlack = 0.95;
+// Extremity maps screened by matching the first levels' samples (schedule steps <= 2).
+constexpr int kScreenedMaps = 1000;
+constexpr int kScreenLastStep = 2;
+// A sample's image lies within this many times its distance to its parent, around the
+// parent's image (the tracker's window_factor).
+constexpr float kWindowFactor = 2.0f;
+
+// Distances of a part in raw units, with the test for which of them are the full shape's.
+struct PartGeometry {
+  const PreprocessedShape& shape;
+  std::vector<float> boundary_distance;  // raw; +inf on a closed part
+
+  // Raw geodesic distance from sample i to vertex v.
+  float distance(int sample, int v) const { return shape.field(sample, v) * static_cast<float>(shape.diameter()); }
+  // True when the part's distance between sample i and vertex v is the full shape's.
+  bool exact(int sample, int v, float d) const {
+    return d < boundary_distance[shape.sample_vertex(sample)] + boundary_distance[v];
+  }
+};
+
+std::vector<float> distance_to_boundary(const PreprocessedShape& shape) {
+  const TriangleMesh& mesh = shape.mesh();
+  // An edge used by one face only lies on the boundary; count each undirected edge's faces.
+  std::vector<std::pair<int, int>> edges;
+  for (const Face& f : mesh.faces)
+    for (int c = 0; c < 3; ++c) edges.emplace_back(std::minmax(f[c], f[(c + 1) % 3]));
+  std::sort(edges.begin(), edges.end());
+  std::vector<int> boundary;
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i == 1) boundary.push_back(edges[i].first), boundary.push_back(edges[i].second);
+    i = j;
+  }
+  if (boundary.empty()) return std::vector<float>(mesh.num_vertices(), kUnreached);
+  std::sort(boundary.begin(), boundary.end());
+  boundary.erase(std::unique(boundary.begin(), boundary.end()), boundary.end());
+  FastMarching::Workspace workspace;
+  shape.geodesics().compute(boundary, workspace);
+  return workspace.distance;
+}
+
+// Mismatch of a source distance and a target distance already at the source's scale.
+inline float mismatch(float source_distance, float target_distance, bool exact) {
+  const float gap = target_distance - source_distance;
+  return exact ? std::abs(gap) : std::max(gap, 0.0f);
+}
+
+// Step 1: the source's points for the combinatorial search: its extremity samples away
+// from its boundary, best first. A part with fewer than 3 (half a body may keep only a leg)
+// takes further samples away from the boundary; these are not extremities, so the target
+// then offers its finer samples too (`offer_finer_targets`).
+std::vector<int> source_search_samples(const PartGeometry& part, int wanted, bool& offer_finer_targets) {
+  const PreprocessedShape& s = part.shape;
+  const float band = static_cast<float>(kRimBand * s.diameter());
+  const std::vector<int>& extremities = s.saliency().extremities;
+  auto away = [&](int i) { return part.boundary_distance[s.sample_vertex(i)] >= band; };
+  std::vector<int> chosen;
+  for (int i = 0; i < s.num_level0_samples() && static_cast<int>(chosen.size()) < wanted; ++i)
+    if (away(i) && std::find(extremities.begin(), extremities.end(), s.sample_vertex(i)) != extremities.end())
+      chosen.push_back(i);
+  offer_finer_targets = chosen.size() < 3;
+  for (int i = 0; i < s.num_samples() && chosen.size() < 3; ++i)
+    if (away(i) && std::find(chosen.begin(), chosen.end(), i) == chosen.end()) chosen.push_back(i);
+  if (chosen.size() < 3) throw InputError("the part has fewer than 3 samples away from its boundary to match");
+  return chosen;
+}
+
+struct RankedMap {
+  std::vector<int> target_of;  // target sample per source extremity
+  double distortion = 0;       // scale-invariant
+  double scale = 1;            // kappa: source distance per target distance
+};
+
+// The paper's scale-invariant distortion, made boundary-aware: the scale kappa is the mean
+// source/target ratio over the exact pairs, and each pair adds its relative mismatch at
+// that scale (one-sided where the source distance is only an upper bound). The paper's
+// ratio-spread form over exact pairs alone leaves an extremity free whenever a cut makes
+// all its distances inexact, so maps differing only there tie.
+double scale_invariant_distortion(const std::vector<std::vector<double>>& gs, const std::vector<std::vector<double>>& gt,
+                                  const std::vector<std::vector<char>>& exact, const std::vector<int>& target_of,
+                                  double& scale) {
+  const int m = static_cast<int>(target_of.size());
+  double ratio_sum = 0, least_ratio = std::numeric_limits<double>::max();
+  int ratios = 0;
+  for (int i = 0; i < m; ++i)
+    for (int a = i + 1; a < m; ++a) {
+      const double r = gs[i][a] / std::max(gt[target_of[i]][target_of[a]], 1e-12);
+      if (exact[i][a]) ratio_sum += r, ++ratios;
+      else least_ratio = std::min(least_ratio, r);
+    }
+  // Without exact pairs every ratio only bounds kappa from above (a cut lengthens source
+  // distances); the tightest bound is the best guess.
+  scale = ratios ? ratio_sum / ratios : least_ratio;
+  double sum = 0;
+  for (int i = 0; i < m; ++i)
+    for (int a = i + 1; a < m; ++a)
+      sum += mismatch(static_cast<float>(gs[i][a]), static_cast<float>(scale * gt[target_of[i]][target_of[a]]),
+                      exact[i][a]) /
+             std::max(gs[i][a], 1e-12);
+  return sum / std::max(1, m * (m - 1) / 2);
+}
+
+std::vector<RankedMap> rank_extremity_maps(const PartGeometry& part, const PreprocessedShape& target,
+                                           const std::vector<int>& source_samples, int target_count, int keep) {
+  const int m = static_cast<int>(source_samples.size());
+  const PreprocessedShape& source = part.shape;
+  std::vector<std::vector<double>> gs(m, std::vector<double>(m)), gt(target_count, std::vector<double>(target_count));
+  std::vector<std::vector<char>> exact(m, std::vector<char>(m));
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < m; ++j) {
+      const int vj = source.sample_vertex(source_samples[j]);
+      const float d = part.distance(source_samples[i], vj);
+      gs[i][j] = d;
+      exact[i][j] = part.exact(source_samples[i], vj, d);
+    }
+  for (int i = 0; i < target_count; ++i)
+    for (int j = 0; j < target_count; ++j)
+      gt[i][j] = 0.5 * (target.field(i, target.sample_vertex(j)) + target.field(j, target.sample_vertex(i))) *
+                 target.diameter();
+  // The part is a piece of the target scaled by kappa, so its area is at most kappa^2 times
+  // the target's: a smaller kappa cannot be right.
+  const double min_scale = kAreaSlack * std::sqrt(source.area() / target.area());
+
+  std::vector<RankedMap> maps;
+  std::vector<int> target_of(m);
+  std::vector<char> used(target_count, 0);
+  // Depth-first over injective assignments (at most 9P5 = 15120 for the defaults).
+  std::function<void(int)> assign = [&](int depth) {
+    if (depth == m) {
+      RankedMap map;
+      map.target_of = target_of;
+      map.distortion = scale_invariant_distortion(gs, gt, exact, target_of, map.scale);
+      if (map.scale >= min_scale) maps.push_back(std::move(map));
+      return;
+    }
+    for (int t = 0; t < target_count; ++t) {
+      if (used[t]) continue;
+      used[t] = 1, target_of[depth] = t;
+      assign(depth + 1);
+      used[t] = 0;
+    }
+  };
+  assign(0);
+  std::stable_sort(maps.begin(), maps.end(),
+                   [](const RankedMap& a, const RankedMap& b) { return a.distortion < b.distortion; });
+  if (static_cast<int>(maps.size()) > keep) maps.resize(keep);
+  return maps;
+}
+
+// Trimmed mean of per-anchor mismatches: the largest kTrimmedShare are left out.
+float trimmed_mean(std::vector<float>& terms) {
+  if (terms.empty()) return kUnreached;
+  const size_t kept = std::max<size_t>(1, static_cast<size_t>(std::ceil(terms.size() * (1 - kTrimmedShare))));
+  std::nth_element(terms.begin(), terms.begin() + (kept - 1), terms.end());
+  double sum = 0;
+  for (size_t i = 0; i < kept; ++i) sum += terms[i];
+  return static_cast<float>(sum / kept);
+}
+
+// Scale normalisation from trusted matches: the median source/target distance ratio over
+// the exact distances between matched samples (`fallback` when there are none).
+double scale_from_exact_pairs(const PartGeometry& part, const PreprocessedShape& target,
+                              const std::vector<SamplePair>& pairs, double fallback) {
+  std::vector<double> ratios;
+  for (size_t i = 0; i < pairs.size(); ++i)
+    for (size_t j = i + 1; j < pairs.size(); ++j) {
+      const int sv = part.shape.sample_vertex(pairs[j].source_sample);
+      const float gs = part.distance(pairs[i].source_sample, sv);
+      const double gt = target.field(pairs[i].target_sample, target.sample_vertex(pairs[j].target_sample)) * target.diameter();
+      if (gt > 0 && part.exact(pairs[i].source_sample, sv, gs)) ratios.push_back(gs / gt);
+    }
+  if (ratios.empty()) return fallback;
+  std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
+  return ratios[ratios.size() / 2];
+}
+
+// A grown map's distortion: the mean mismatch over all its pairs of pairs, untrimmed, at
+// scale kappa (fraction of the part's diameter). The cost each sample was matched with is
+// no measure of the map: it is trimmed and sees only earlier pairs, so a map grown from
+// wrong extremities trims them away and looks as consistent as the right one.
+double map_distortion(const PartGeometry& part, const PreprocessedShape& target, const std::vector<SamplePair>& pairs,
+                      double scale) {
+  double sum = 0;
+  long count = 0;
+  const float target_scale = static_cast<float>(target.diameter() * scale);
+  for (size_t i = 0; i < pairs.size(); ++i)
+    for (size_t j = i + 1; j < pairs.size(); ++j) {
+      const int sv = part.shape.sample_vertex(pairs[j].source_sample);
+      const float gs = part.distance(pairs[i].source_sample, sv);
+      const float gt = target.field(pairs[i].target_sample, target.sample_vertex(pairs[j].target_sample)) * target_scale;
+      sum += mismatch(gs, gt, part.exact(pairs[i].source_sample, sv, gs));
+      ++count;
+    }
+  return count ? sum / count / part.shape.diameter() : 0.0;
+}
+
+// Step 3: source samples matched coarse to fine to target samples, each against every
+// pair matched before it.
+// Samples of schedule steps up to `last_step` are matched.
+TrackedMap grow_sample_map(const PartGeometry& part, const PreprocessedShape& target,
+                           const std::vector<int>& extremities, const RankedMap& start, int rank, int last_step,
+                           double& grown_scale, const JobControl& control) {
+  const PreprocessedShape& source = part.shape;
+  const float scale = static_cast<float>(start.scale);
+  const float target_diameter = static_cast<float>(target.diameter());
+  TrackedMap tracked;
+  tracked.level0_rank = rank;
+  tracked.level0_diso = start.distortion;
+  std::vector<char> matched(source.num_samples(), 0);
+  for (size_t i = 0; i < extremities.size(); ++i) {
+    tracked.pairs.push_back({extremities[i], start.target_of[i], 0.0f, -1});
+    matched[extremities[i]] = 1;
+  }
+  std::vector<float> terms;
+  for (int s = 0; s < source.num_samples(); ++s) {
+    if (matched[s] || source.sample_step(s) > last_step) continue;
+    control.check_cancelled();
+    const int sv = source.sample_vertex(s);
+    // As in tracking: a new pair must keep the handedness of the pairs near it, or the
+    // front of a body drifts onto its back, which geodesics to the extremities cannot tell.
+    const HandednessGuard guard(source, target, tracked.pairs, sv, 0.05f);
+    // As in tracking, the image is sought near the image of the nearest matched sample
+    // (the parent), within twice their distance: a limb's samples cannot jump to another limb.
+    const SamplePair* parent = &tracked.pairs.front();
+    for (const SamplePair& p : tracked.pairs)
+      if (source.field(p.source_sample, sv) < source.field(parent->source_sample, sv)) parent = &p;
+    const float window = kWindowFactor * part.distance(parent->source_sample, sv) / (target_diameter * scale);
+    float best = kUnreached;
+    int best_target = -1;
+    for (int t = 0; t < target.num_samples(); ++t) {
+      const int tv = target.sample_vertex(t);
+      if (target.field(parent->target_sample, tv) > window) continue;
+      terms.clear();
+      for (const SamplePair& p : tracked.pairs) {
+        const float gs = part.distance(p.source_sample, sv);
+        const float gt = target.field(p.target_sample, tv) * target_diameter * scale;
+        terms.push_back(mismatch(gs, gt, part.exact(p.source_sample, sv, gs)));
+      }
+      const float cost = trimmed_mean(terms);
+      if (cost < best && guard.accepts(tv)) best = cost, best_target = t;
+    }
+    if (best_target < 0) continue;
+    tracked.pairs.push_back({s, best_target, best / static_cast<float>(source.diameter()), -1});
+  }
+  tracked.orientation = orientation_agreement(source, target, tracked.pairs);
+  grown_scale = scale_from_exact_pairs(part, target, tracked.pairs, start.scale);
+  tracked.diso = map_distortion(part, target, tracked.pairs, grown_scale);
+  return tracked;
+}
+
+// Order in which source vertices are visited: breadth first from the first anchor, so each
+// vertex's descent starts at the image of a neighbour.
+std::vector<int> breadth_first_order(const PreprocessedShape& shape, int start) {
+  const MeshTopology& topology = shape.geodesics().topology();
+  std::vector<int> order, parent(shape.mesh().num_vertices(), -2);
+  order.reserve(parent.size());
+  std::queue<int> queue;
+  queue.push(start);
+  parent[start] = -1;
+  while (!queue.empty()) {
+    const int v = queue.front();
+    queue.pop();
+    order.push_back(v);
+    for (const int* u = topology.neighbours_begin(v); u != topology.neighbours_end(v); ++u)
+      if (parent[*u] == -2) parent[*u] = v, queue.push(*u);
+  }
+  return order;
+}
+
+// The target side of the dense anchors: each pair's image and its distance field, either
+// the target's sample fields (cheap: for comparing candidates) or fields computed from
+// vertex-accurate images (for the chosen map).
+struct TargetAnchors {
+  std::vector<int> vertex;
+  std::vector<const float*> rows;  // distance to every target vertex, times row_scale = raw
+  float row_scale = 1;
+  std::vector<std::vector<float>> computed_fields;
+};
+
+TargetAnchors sample_anchors(const PreprocessedShape& target, const std::vector<SamplePair>& pairs) {
+  TargetAnchors anchors;
+  for (const SamplePair& p : pairs) {
+    anchors.vertex.push_back(target.sample_vertex(p.target_sample));
+    anchors.rows.push_back(target.field_row(p.target_sample));
+  }
+  anchors.row_scale = static_cast<float>(target.diameter());
+  return anchors;
+}
+
+// Each pair's image moved from its target sample to the vertex that best agrees with the
+// other pairs (a sample spacing is about 4% of the diameter: too coarse for the dense map),
+// then a geodesic field from each moved image.
+TargetAnchors vertex_accurate_anchors(const PartGeometry& part, const PreprocessedShape& target,
+                                      const std::vector<SamplePair>& pairs, double scale, int threads,
+                                      const JobControl& control) {
+  TargetAnchors anchors;
+  const int count = static_cast<int>(pairs.size());
+  anchors.vertex.resize(count);
+  anchors.computed_fields.resize(count);
+  const float target_scale = static_cast<float>(target.diameter() * scale);
+  parallel_for(count, threads, [&](int q, int) {
+    control.check_cancelled();
+    const int sv = part.shape.sample_vertex(pairs[q].source_sample);
+    std::vector<float> gs(count);
+    std::vector<char> exact(count);
+    for (int p = 0; p < count; ++p) {
+      gs[p] = part.distance(pairs[p].source_sample, sv);
+      exact[p] = part.exact(pairs[p].source_sample, sv, gs[p]);
+    }
+    std::vector<float> terms;
+    auto cost = [&](int t) {
+      terms.clear();
+      for (int p = 0; p < count; ++p)
+        if (p != q) terms.push_back(mismatch(gs[p], target.field(pairs[p].target_sample, t) * target_scale, exact[p]));
+      return trimmed_mean(terms);
+    };
+    float best = 0;
+    anchors.vertex[q] = descend_to_minimum(target.geodesics().topology(), target.sample_vertex(pairs[q].target_sample),
+                                           cost, best);
+    anchors.computed_fields[q] = target.geodesics().distance_field(anchors.vertex[q]);
+  });
+  for (const auto& field : anchors.computed_fields) anchors.rows.push_back(field.data());
+  anchors.row_scale = 1;
+  return anchors;
+}
+
+// Step 4: every source vertex, by descent of the anchors' weighted mismatch on the target
+// (the forward map only).
+DenseMap dense_part_map(const PartGeometry& part, const PreprocessedShape& target, const TrackedMap& chosen,
+                        const TargetAnchors& anchors, double scale, const JobControl& control) {
+  const PreprocessedShape& source = part.shape;
+  const int source_vertices = source.mesh().num_vertices();
+  const float target_scale = static_cast<float>(anchors.row_scale * scale);
+  const float source_diameter = static_cast<float>(source.diameter());
+  const auto& pairs = chosen.pairs;
+  DenseMap dense;
+  dense.forward.assign(source_vertices, -1);
+  dense.forward_diso.assign(source_vertices, 0.0f);
+
+  std::vector<float> gs(pairs.size()), weight(pairs.size());
+  std::vector<char> exact(pairs.size());
+  const std::vector<int> order = breadth_first_order(source, source.sample_vertex(pairs.front().source_sample));
+  const MeshTopology& source_topology = source.geodesics().topology();
+  const MeshTopology& target_topology = target.geodesics().topology();
+  for (size_t k = 0; k < order.size(); ++k) {
+    if (k % 4096 == 0) control.check_cancelled();
+    const int v = order[k];
+    for (size_t a = 0; a < pairs.size(); ++a) {
+      gs[a] = part.distance(pairs[a].source_sample, v);
+      exact[a] = part.exact(pairs[a].source_sample, v, gs[a]);
+      weight[a] = 1.0f / (gs[a] / source_diameter + static_cast<float>(kLocality));
+    }
+    auto cost = [&](int t) {
+      double sum = 0, total = 0;
+      for (size_t a = 0; a < pairs.size(); ++a) {
+        sum += weight[a] * mismatch(gs[a], anchors.rows[a][t] * target_scale, exact[a]);
+        total += weight[a];
+      }
+      return static_cast<float>(sum / total);
+    };
+    // Start at a visited neighbour's image, else at the nearest anchor's image.
+    int start = -1;
+    for (const int* u = source_topology.neighbours_begin(v); u != source_topology.neighbours_end(v) && start < 0; ++u)
+      start = dense.forward[*u];
+    if (start < 0) {
+      size_t nearest = 0;
+      for (size_t a = 1; a < pairs.size(); ++a)
+        if (gs[a] < gs[nearest]) nearest = a;
+      start = anchors.vertex[nearest];
+    }
+    float best = 0;
+    dense.forward[v] = descend_to_minimum(target_topology, start, cost, best);
+    dense.forward_diso[v] = best / source_diameter;
+  }
+  for (int v = 0; v < source_vertices; ++v)  // unreachable from the first anchor: cannot happen on a
+    if (dense.forward[v] < 0) dense.forward[v] = target.sample_vertex(pairs.front().target_sample);  // cleaned mesh
+  return dense;
+}
+
+// Reverse: each target vertex near an image takes the source vertex of the nearest image
+// (edge-graph Dijkstra carrying labels); the rest has no counterpart.
+void add_reverse_map(const PreprocessedShape& source, const PreprocessedShape& target, double scale, DenseMap& dense) {
+  const int source_vertices = source.mesh().num_vertices();
+  const MeshTopology& target_topology = target.geodesics().topology();
+  const TriangleMesh& tm = target.mesh();
+  const int target_vertices = tm.num_vertices();
+  dense.reverse.assign(target_vertices, -1);
+  dense.reverse_diso.assign(target_vertices, kUnreached);
+  using Item = std::pair<float, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> heap;
+  for (int v = 0; v < source_vertices; ++v) {
+    const int t = dense.forward[v];
+    if (dense.reverse[t] < 0 || dense.forward_diso[v] < dense.forward_diso[dense.reverse[t]]) dense.reverse[t] = v;
+    dense.reverse_diso[t] = 0;
+  }
+  for (int t = 0; t < target_vertices; ++t)
+    if (dense.reverse[t] >= 0) heap.push({0.0f, t});
+  const float reach = static_cast<float>(kCoverEdges * std::max(target.mean_edge(), source.mean_edge() / scale));
+  while (!heap.empty()) {
+    const auto [d, t] = heap.top();
+    heap.pop();
+    if (d > dense.reverse_diso[t]) continue;
+    for (const int* u = target_topology.neighbours_begin(t); u != target_topology.neighbours_end(t); ++u) {
+      const float nd = d + static_cast<float>((tm.vertices[*u] - tm.vertices[t]).norm());
+      if (nd <= reach && nd < dense.reverse_diso[*u]) {
+        dense.reverse_diso[*u] = nd;
+        dense.reverse[*u] = dense.reverse[t];
+        heap.push({nd, *u});
+      }
+    }
+  }
+  for (float& d : dense.reverse_diso)
+    if (d != kUnreached) d /= static_cast<float>(target.diameter());
+}
+
+}  // namespace
+
+DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& target, const MatchSettings& settings,
+                    MatchResult& result, const JobControl& control) {
+  StageClock clock(result.timings);
+  const PartGeometry part{source, distance_to_boundary(source)};
+
+  control.report({"part-extremities", 0, 2, 0.0});
+  bool offer_finer_targets = false;
+  const std::vector<int> extremities = source_search_samples(part, settings.part_extremities, offer_finer_targets);
+  // Targets: the level-0 samples (extremities first), or the samples of the first
+  // half-levels when the part's points are not all extremities.
+  constexpr int kFinerTargets = 20;
+  const int target_count =
+      offer_finer_targets ? std::min(target.num_samples(), kFinerTargets) : target.num_level0_samples();
+  if (target_count < static_cast<int>(extremities.size()))
+    throw InputError("the target has fewer level-0 samples (" + std::to_string(target_count) +
+                     ") than the part's extremities (" + std::to_string(extremities.size()) + ")");
+  const std::vector<RankedMap> all_maps =
+      rank_extremity_maps(part, target, extremities, target_count, kScreenedMaps);
+  if (all_maps.empty())
+    throw InputError("no extremity map is consistent with the part's area: is the source a part of the target?");
+  for (const auto& map : all_maps) result.level0.push_back({map.target_of, map.distortion});
+  clock.finish("part-extremities");
+
+  // Screening: with few extremities, or distances all lengthened by the cut, many
+  // extremity maps are equally consistent; matching the first levels' samples (steps <= 2)
+  // against each tells them apart at a fraction of a full growth's cost.
+  control.report({"part-screening", 1, 2, 0.1});
+  const int threads = resolve_thread_count(settings.threads);
+  std::vector<TrackedMap> screened(all_maps.size());
+  std::vector<double> screened_scale(all_maps.size());
+  parallel_for(static_cast<int>(all_maps.size()), threads, [&](int i, int) {
+    screened[i] = grow_sample_map(part, target, extremities, all_maps[i], i, kScreenLastStep, screened_scale[i], control);
+  });
+  // Candidates: half the best by extremity distortion (right when the extremities pin the
+  // map down), half the best screened (right when they tie), each map once.
+  std::vector<int> by_screening(all_maps.size());
+  std::iota(by_screening.begin(), by_screening.end(), 0);
+  std::stable_sort(by_screening.begin(), by_screening.end(),
+                   [&](int a, int b) { return screened[a].diso < screened[b].diso; });
+  std::vector<int> order;
+  const size_t wanted = std::min<size_t>(all_maps.size(), settings.part_candidates);
+  for (size_t k = 0; order.size() < wanted; ++k) {
+    for (int i : {static_cast<int>(k), by_screening[k]})  // all_maps is sorted by D already
+      if (order.size() < wanted && std::find(order.begin(), order.end(), i) == order.end()) order.push_back(i);
+  }
+  std::vector<RankedMap> maps;
+  for (int i : order) {
+    maps.push_back(all_maps[i]);
+    maps.back().scale = screened_scale[i];  // kappa from the screened map's exact distances
+  }
+  clock.finish("part-screening");
+
+  control.report({"part-tracking", 1, 2, 0.3});
+  result.tracked.resize(maps.size());
+  std::vector<double> scales(maps.size());
+  std::atomic<int> done{0};
+  const int last_step = 2 * source.options().decision_level;
+  parallel_for(static_cast<int>(maps.size()), threads, [&](int i, int) {
+    result.tracked[i] = grow_sample_map(part, target, extremities, maps[i], order[i], last_step, scales[i], control);
+    control.report({"part-tracking", 1, 2, 0.3 + 0.4 * (++done) / maps.size()});
+  });
+  clock.finish("part-tracking");
+
+  // Each candidate extended to every vertex: a mirrored map reverses most faces there
+  // (sample triangles are too coarse to show it), so dense orientation drops mirrors and
+  // the rank among the rest follows the sample maps' distortion.
+  control.report({"part-dense", 2, 2, 0.7});
+  std::vector<DenseMap> dense(maps.size());
+  parallel_for(static_cast<int>(maps.size()), resolve_thread_count(settings.threads), [&](int i, int) {
+    dense[i] = dense_part_map(part, target, result.tracked[i], sample_anchors(target, result.tracked[i].pairs),
+                              scales[i], control);
+    result.tracked[i].orientation = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
+                                                                target.normals(), dense[i].forward);
+  });
+  result.chosen = rank_tracked(result.tracked, settings).front();
+  const TrackedMap& winner = result.tracked[result.chosen];
+  const TargetAnchors anchors = vertex_accurate_anchors(part, target, winner.pairs, scales[result.chosen],
+                                                        resolve_thread_count(settings.threads), control);
+  DenseMap chosen = dense_part_map(part, target, winner, anchors, scales[result.chosen], control);
+  add_reverse_map(source, target, scales[result.chosen], chosen);
+  clock.finish("part-dense");
+  result.part_scale = scales[result.chosen];
+  return chosen;
+}
+
+}  // namespace isocorr

@@ -1,0 +1,129 @@
+#include "isocorr/partial/partial_cut.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+#include <Eigen/Geometry>
+
+#include "isocorr/geodesic/fast_marching.h"
+#include "isocorr/mesh/mesh_cleaning.h"
+#include "isocorr/util/error.h"
+#include "isocorr/util/union_find.h"
+
+namespace isocorr {
+namespace {
+
+double face_area(const TriangleMesh& mesh, const Face& f) {
+  return 0.5 * (mesh.vertices[f[1]] - mesh.vertices[f[0]]).cross(mesh.vertices[f[2]] - mesh.vertices[f[0]]).norm();
+}
+
+// Per face, how early it is removed: geodesic distance to the nearest centre (balls,
+// holes) or signed height along a random direction (plane).
+std::vector<double> removal_order_keys(const TriangleMesh& mesh, const CutSpec& spec, std::string& description) {
+  std::mt19937 random(spec.seed);
+  std::vector<double> keys(mesh.faces.size());
+  if (spec.kind == CutKind::kPlane) {
+    std::normal_distribution<double> gaussian;
+    Vec3 normal(gaussian(random), gaussian(random), gaussian(random));
+    normal.normalize();
+    for (size_t f = 0; f < keys.size(); ++f) {
+      const Face& face = mesh.faces[f];
+      keys[f] = normal.dot(mesh.vertices[face[0]] + mesh.vertices[face[1]] + mesh.vertices[face[2]]);
+    }
+    description = "plane cut along (" + std::to_string(normal.x()) + ", " + std::to_string(normal.y()) + ", " +
+                  std::to_string(normal.z()) + ")";
+    return keys;
+  }
+  const int centres = spec.kind == CutKind::kHoles ? std::max(1, spec.holes) : 1;
+  std::uniform_int_distribution<int> pick(0, mesh.num_vertices() - 1);
+  std::vector<int> sources;
+  for (int i = 0; i < centres; ++i) sources.push_back(pick(random));
+  const MeshTopology topology(mesh);
+  const FastMarching geodesics(mesh, topology);
+  FastMarching::Workspace workspace;
+  geodesics.compute(sources, workspace);
+  for (size_t f = 0; f < keys.size(); ++f) {
+    const Face& face = mesh.faces[f];
+    keys[f] = std::max({workspace.distance[face[0]], workspace.distance[face[1]], workspace.distance[face[2]]});
+  }
+  description = spec.kind == CutKind::kHoles ? std::to_string(centres) + " holes around vertices" : "geodesic ball at vertex";
+  for (int s : sources) description += " " + std::to_string(s);
+  return keys;
+}
+
+}  // namespace
+
+CutKind parse_cut_kind(const std::string& name) {
+  if (name == "ball") return CutKind::kGeodesicBall;
+  if (name == "plane") return CutKind::kPlane;
+  if (name == "holes") return CutKind::kHoles;
+  throw InputError("unknown cut '" + name + "' (ball, plane or holes)");
+}
+
+const char* cut_kind_name(CutKind kind) {
+  switch (kind) {
+    case CutKind::kGeodesicBall: return "ball";
+    case CutKind::kPlane: return "plane";
+    case CutKind::kHoles: return "holes";
+  }
+  return "?";
+}
+
+PartialShape cut_partial_shape(const TriangleMesh& full, const CutSpec& spec) {
+  if (!(spec.keep_area > 0 && spec.keep_area < 1)) throw InputError("the kept share of the area must lie in (0, 1)");
+  // Cut the cleaned mesh, so the geodesics run on a sane surface; numbers go back to `full`.
+  const CleanMesh clean = clean_mesh(full);
+  const TriangleMesh& mesh = clean.mesh;
+
+  PartialShape part;
+  const std::vector<double> keys = removal_order_keys(mesh, spec, part.description);
+  std::vector<int> order(mesh.faces.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return keys[a] < keys[b]; });
+
+  const double total = total_area(mesh);
+  std::vector<char> kept(mesh.faces.size(), 1);
+  double removed = 0;
+  for (int f : order) {
+    if (removed >= (1 - spec.keep_area) * total) break;
+    kept[f] = 0;
+    removed += face_area(mesh, mesh.faces[f]);
+  }
+
+  // The largest connected piece (by area) of the kept faces.
+  UnionFind pieces(mesh.num_vertices());
+  for (size_t f = 0; f < kept.size(); ++f)
+    if (kept[f]) {
+      pieces.unite(mesh.faces[f][0], mesh.faces[f][1]);
+      pieces.unite(mesh.faces[f][0], mesh.faces[f][2]);
+    }
+  std::vector<double> piece_area(mesh.num_vertices(), 0.0);
+  for (size_t f = 0; f < kept.size(); ++f)
+    if (kept[f]) piece_area[pieces.find(mesh.faces[f][0])] += face_area(mesh, mesh.faces[f]);
+  const int largest = static_cast<int>(std::max_element(piece_area.begin(), piece_area.end()) - piece_area.begin());
+  if (piece_area[largest] <= 0) throw InputError("the cut leaves no surface");
+
+  std::vector<int> new_index(mesh.num_vertices(), -1);
+  for (size_t f = 0; f < kept.size(); ++f) {
+    if (!kept[f] || pieces.find(mesh.faces[f][0]) != largest) continue;
+    Face face;
+    for (int c = 0; c < 3; ++c) {
+      int& index = new_index[mesh.faces[f][c]];
+      if (index < 0) {
+        index = part.mesh.num_vertices();
+        part.mesh.vertices.push_back(mesh.vertices[mesh.faces[f][c]]);
+        part.full_vertex.push_back(clean.clean_to_input[mesh.faces[f][c]]);
+      }
+      face[c] = index;
+    }
+    part.mesh.faces.push_back(face);
+  }
+  part.kept_area = piece_area[largest] / total;
+  part.description += ", " + std::to_string(static_cast<int>(std::lround(100 * part.kept_area))) + "% of the area kept";
+  if (part.mesh.num_vertices() < kMinMatchableVertices) throw InputError("the cut leaves too few vertices to match");
+  return part;
+}
+
+}  // namespace isocorr
