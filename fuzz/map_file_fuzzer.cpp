@@ -9,7 +9,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string bytes(reinterpret_cast<const char*>(data), size);
   try {
-    for (int index : isocorr::parse_map(bytes, "fuzz.map")) ISOCORR_FUZZ_CHECK(index >= 0);
+    // A vertex index, or -1 for a vertex without counterpart (a part's reverse map).
+    for (int index : isocorr::parse_map(bytes, "fuzz.map")) ISOCORR_FUZZ_CHECK(index >= isocorr::kNoCounterpart);
   } catch (const isocorr::InputError&) {
   }
   return 0;
