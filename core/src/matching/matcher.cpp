@@ -8,8 +8,6 @@
 #include "isocorr/util/parallel.h"
 
 namespace isocorr {
-namespace {
-
 Eigen::MatrixXd sample_distances(const PreprocessedShape& shape, int count) {
   Eigen::MatrixXd d(count, count);
   for (int i = 0; i < count; ++i)
@@ -18,8 +16,6 @@ Eigen::MatrixXd sample_distances(const PreprocessedShape& shape, int count) {
       d(i, j) = 0.5 * (shape.field(i, shape.sample_vertex(j)) + shape.field(j, shape.sample_vertex(i)));
   return d;
 }
-
-}  // namespace
 
 // Orientation rule: a mirrored map, or one with a limb pair swapped, reverses the
 // handedness of part of the surface, so only maps whose orientation agreement is within

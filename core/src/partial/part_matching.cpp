@@ -105,7 +105,7 @@ struct RankedMap {
 // that scale (one-sided where the source distance is only an upper bound). The paper's
 // ratio-spread form over exact pairs alone leaves an extremity free whenever a cut makes
 // all its distances inexact, so maps differing only there tie.
-double scale_invariant_distortion(const std::vector<std::vector<double>>& gs, const std::vector<std::vector<double>>& gt,
+double scale_invariant_distortion(const std::vector<std::vector<double>>& gs, const Eigen::MatrixXd& gt,
                                   const std::vector<std::vector<char>>& exact, const std::vector<int>& target_of,
                                   double& scale) {
   const int m = static_cast<int>(target_of.size());
@@ -113,7 +113,7 @@ double scale_invariant_distortion(const std::vector<std::vector<double>>& gs, co
   int ratios = 0;
   for (int i = 0; i < m; ++i)
     for (int a = i + 1; a < m; ++a) {
-      const double r = gs[i][a] / std::max(gt[target_of[i]][target_of[a]], 1e-12);
+      const double r = gs[i][a] / std::max(gt(target_of[i], target_of[a]), 1e-12);
       if (exact[i][a]) ratio_sum += r, ++ratios;
       else least_ratio = std::min(least_ratio, r);
     }
@@ -123,7 +123,7 @@ double scale_invariant_distortion(const std::vector<std::vector<double>>& gs, co
   double sum = 0;
   for (int i = 0; i < m; ++i)
     for (int a = i + 1; a < m; ++a)
-      sum += mismatch(static_cast<float>(gs[i][a]), static_cast<float>(scale * gt[target_of[i]][target_of[a]]),
+      sum += mismatch(static_cast<float>(gs[i][a]), static_cast<float>(scale * gt(target_of[i], target_of[a])),
                       exact[i][a]) /
              std::max(gs[i][a], 1e-12);
   return sum / std::max(1, m * (m - 1) / 2);
@@ -133,7 +133,8 @@ std::vector<RankedMap> rank_extremity_maps(const PartGeometry& part, const Prepr
                                            const std::vector<int>& source_samples, int target_count, int keep) {
   const int m = static_cast<int>(source_samples.size());
   const PreprocessedShape& source = part.shape;
-  std::vector<std::vector<double>> gs(m, std::vector<double>(m)), gt(target_count, std::vector<double>(target_count));
+  std::vector<std::vector<double>> gs(m, std::vector<double>(m));
+  const Eigen::MatrixXd gt = sample_distances(target, target_count) * target.diameter();
   std::vector<std::vector<char>> exact(m, std::vector<char>(m));
   for (int i = 0; i < m; ++i)
     for (int j = 0; j < m; ++j) {
@@ -142,10 +143,6 @@ std::vector<RankedMap> rank_extremity_maps(const PartGeometry& part, const Prepr
       gs[i][j] = d;
       exact[i][j] = part.exact(source_samples[i], vj, d);
     }
-  for (int i = 0; i < target_count; ++i)
-    for (int j = 0; j < target_count; ++j)
-      gt[i][j] = 0.5 * (target.field(i, target.sample_vertex(j)) + target.field(j, target.sample_vertex(i))) *
-                 target.diameter();
   // The part is a piece of the target scaled by kappa, so its area is at most kappa^2 times
   // the target's: a smaller kappa cannot be right.
   const double min_scale = kAreaSlack * std::sqrt(source.area() / target.area());
@@ -186,18 +183,29 @@ float trimmed_mean(std::vector<float>& terms) {
   return static_cast<float>(sum / kept);
 }
 
+// Calls visit(source distance, raw target distance, exact) for every pair of pairs of a
+// sample map.
+template <class Visit>
+void for_each_pair_of_pairs(const PartGeometry& part, const PreprocessedShape& target,
+                            const std::vector<SamplePair>& pairs, Visit visit) {
+  for (size_t i = 0; i < pairs.size(); ++i)
+    for (size_t j = i + 1; j < pairs.size(); ++j) {
+      const int sv = part.shape.sample_vertex(pairs[j].source_sample);
+      const float gs = part.distance(pairs[i].source_sample, sv);
+      const double gt =
+          target.field(pairs[i].target_sample, target.sample_vertex(pairs[j].target_sample)) * target.diameter();
+      visit(gs, gt, part.exact(pairs[i].source_sample, sv, gs));
+    }
+}
+
 // Scale normalisation from trusted matches: the median source/target distance ratio over
 // the exact distances between matched samples (`fallback` when there are none).
 double scale_from_exact_pairs(const PartGeometry& part, const PreprocessedShape& target,
                               const std::vector<SamplePair>& pairs, double fallback) {
   std::vector<double> ratios;
-  for (size_t i = 0; i < pairs.size(); ++i)
-    for (size_t j = i + 1; j < pairs.size(); ++j) {
-      const int sv = part.shape.sample_vertex(pairs[j].source_sample);
-      const float gs = part.distance(pairs[i].source_sample, sv);
-      const double gt = target.field(pairs[i].target_sample, target.sample_vertex(pairs[j].target_sample)) * target.diameter();
-      if (gt > 0 && part.exact(pairs[i].source_sample, sv, gs)) ratios.push_back(gs / gt);
-    }
+  for_each_pair_of_pairs(part, target, pairs, [&](float gs, double gt, bool exact) {
+    if (gt > 0 && exact) ratios.push_back(gs / gt);
+  });
   if (ratios.empty()) return fallback;
   std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
   return ratios[ratios.size() / 2];
@@ -211,21 +219,15 @@ double map_distortion(const PartGeometry& part, const PreprocessedShape& target,
                       double scale) {
   double sum = 0;
   long count = 0;
-  const float target_scale = static_cast<float>(target.diameter() * scale);
-  for (size_t i = 0; i < pairs.size(); ++i)
-    for (size_t j = i + 1; j < pairs.size(); ++j) {
-      const int sv = part.shape.sample_vertex(pairs[j].source_sample);
-      const float gs = part.distance(pairs[i].source_sample, sv);
-      const float gt = target.field(pairs[i].target_sample, target.sample_vertex(pairs[j].target_sample)) * target_scale;
-      sum += mismatch(gs, gt, part.exact(pairs[i].source_sample, sv, gs));
-      ++count;
-    }
+  for_each_pair_of_pairs(part, target, pairs, [&](float gs, double gt, bool exact) {
+    sum += mismatch(gs, static_cast<float>(gt * scale), exact);
+    ++count;
+  });
   return count ? sum / count / part.shape.diameter() : 0.0;
 }
 
-// Step 3: source samples matched coarse to fine to target samples, each against every
-// pair matched before it.
-// Samples of schedule steps up to `last_step` are matched.
+// Step 3: source samples of schedule steps up to `last_step` matched coarse to fine to
+// target samples, each against every pair matched before it.
 TrackedMap grow_sample_map(const PartGeometry& part, const PreprocessedShape& target,
                            const std::vector<int>& extremities, const RankedMap& start, int rank, int last_step,
                            double& grown_scale, const JobControl& control) {
@@ -277,21 +279,22 @@ TrackedMap grow_sample_map(const PartGeometry& part, const PreprocessedShape& ta
   return tracked;
 }
 
-// Order in which source vertices are visited: breadth first from the first anchor, so each
-// vertex's descent starts at the image of a neighbour.
+// Order in which source vertices are visited: breadth first from the first extremity (every
+// candidate's first pair), so each vertex's descent starts at the image of a neighbour.
 std::vector<int> breadth_first_order(const PreprocessedShape& shape, int start) {
   const MeshTopology& topology = shape.geodesics().topology();
-  std::vector<int> order, parent(shape.mesh().num_vertices(), -2);
-  order.reserve(parent.size());
+  std::vector<int> order;
+  std::vector<char> seen(shape.mesh().num_vertices(), 0);
+  order.reserve(seen.size());
   std::queue<int> queue;
   queue.push(start);
-  parent[start] = -1;
+  seen[start] = 1;
   while (!queue.empty()) {
     const int v = queue.front();
     queue.pop();
     order.push_back(v);
     for (const int* u = topology.neighbours_begin(v); u != topology.neighbours_end(v); ++u)
-      if (parent[*u] == -2) parent[*u] = v, queue.push(*u);
+      if (!seen[*u]) seen[*u] = 1, queue.push(*u);
   }
   return order;
 }
@@ -353,10 +356,11 @@ TargetAnchors vertex_accurate_anchors(const PartGeometry& part, const Preprocess
   return anchors;
 }
 
-// Step 4: every source vertex, by descent of the anchors' weighted mismatch on the target
-// (the forward map only).
+// Step 4: every source vertex, in `order` (breadth_first_order), by descent of the anchors'
+// weighted mismatch on the target (the forward map only).
 DenseMap dense_part_map(const PartGeometry& part, const PreprocessedShape& target, const TrackedMap& chosen,
-                        const TargetAnchors& anchors, double scale, const JobControl& control) {
+                        const TargetAnchors& anchors, double scale, const std::vector<int>& order,
+                        const JobControl& control) {
   const PreprocessedShape& source = part.shape;
   const int source_vertices = source.mesh().num_vertices();
   const float target_scale = static_cast<float>(anchors.row_scale * scale);
@@ -368,7 +372,6 @@ DenseMap dense_part_map(const PartGeometry& part, const PreprocessedShape& targe
 
   std::vector<float> gs(pairs.size()), weight(pairs.size());
   std::vector<char> exact(pairs.size());
-  const std::vector<int> order = breadth_first_order(source, source.sample_vertex(pairs.front().source_sample));
   const MeshTopology& source_topology = source.geodesics().topology();
   const MeshTopology& target_topology = target.geodesics().topology();
   for (size_t k = 0; k < order.size(); ++k) {
@@ -511,18 +514,19 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   // (sample triangles are too coarse to show it), so dense orientation drops mirrors and
   // the rank among the rest follows the sample maps' distortion.
   control.report({"part-dense", 2, 2, 0.7});
+  const std::vector<int> visit_order = breadth_first_order(source, source.sample_vertex(extremities.front()));
   std::vector<DenseMap> dense(maps.size());
-  parallel_for(static_cast<int>(maps.size()), resolve_thread_count(settings.threads), [&](int i, int) {
+  parallel_for(static_cast<int>(maps.size()), threads, [&](int i, int) {
     dense[i] = dense_part_map(part, target, result.tracked[i], sample_anchors(target, result.tracked[i].pairs),
-                              scales[i], control);
+                              scales[i], visit_order, control);
     result.tracked[i].orientation = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
                                                                 target.normals(), dense[i].forward);
   });
   result.chosen = rank_tracked(result.tracked, settings).front();
   const TrackedMap& winner = result.tracked[result.chosen];
-  const TargetAnchors anchors = vertex_accurate_anchors(part, target, winner.pairs, scales[result.chosen],
-                                                        resolve_thread_count(settings.threads), control);
-  DenseMap chosen = dense_part_map(part, target, winner, anchors, scales[result.chosen], control);
+  const TargetAnchors anchors =
+      vertex_accurate_anchors(part, target, winner.pairs, scales[result.chosen], threads, control);
+  DenseMap chosen = dense_part_map(part, target, winner, anchors, scales[result.chosen], visit_order, control);
   add_reverse_map(source, target, scales[result.chosen], chosen);
   clock.finish("part-dense");
   result.part_scale = scales[result.chosen];

@@ -49,6 +49,10 @@ struct MatchResult {
   MatchSummary summary() const;
 };
 
+// Normalised geodesic distances between the first `count` samples of a shape, symmetrised
+// (fast marching is not exactly symmetric): the level-0 search's input.
+Eigen::MatrixXd sample_distances(const PreprocessedShape& shape, int count);
+
 // The choice among tracked maps: those whose orientation agreement is within
 // settings.orientation_margin of the best compete on D_iso - weight * orientation; returns
 // all indices, best first.
