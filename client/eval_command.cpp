@@ -16,10 +16,21 @@ namespace isocorr::cli {
 namespace {
 
 struct EvalArguments {
-  std::string map, dataset, source, target, gt_kind;
+  std::string map, dataset, source, target, gt_kind, errors_out;
   int max_points = 2000;
   bool json = false;
 };
+
+// One line per scored point: source vertex, error / diameter, 1 if nearer its mirror image.
+void write_point_errors(const std::string& path, const GroundTruthScore& score) {
+  std::FILE* file = std::fopen(path.c_str(), "w");
+  if (!file) throw InputError("cannot write " + path);
+  std::fprintf(file, "# source_vertex error_over_diameter nearer_mirror\n");
+  for (size_t i = 0; i < score.point_errors.size(); ++i)
+    std::fprintf(file, "%d %.6f %d\n", score.point_sources[i], score.point_errors[i],
+                 static_cast<int>(score.point_nearer_mirror[i]));
+  if (std::fclose(file) != 0) throw InputError("cannot write " + path);
+}
 
 int run_eval(const EvalArguments& args) {
   try {
@@ -42,6 +53,7 @@ int run_eval(const EvalArguments& args) {
     EvaluationOptions options;
     options.max_points = args.max_points;
     const GroundTruthScore score = score_against_ground_truth(target.mesh, geodesics, diameter, forward, truth, options);
+    if (!args.errors_out.empty()) write_point_errors(args.errors_out, score);
     const std::vector<int> seed_counts = {10, 20, 50, 100, 200, 500};
     const std::vector<double> covered = coverage(target.mesh, geodesics, forward, seed_counts);
     if (args.json) {
@@ -84,6 +96,8 @@ void register_eval_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--gt-kind", args->gt_kind, "ground-truth kind (default: looked up in pairs.tsv)");
   cmd->add_option("--max-points", args->max_points, "ground-truth points scored (0 = all)")->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON");
+  cmd->add_option("--errors-out", args->errors_out,
+                  "write each scored point's source vertex, error / diameter and mirror flag, one per line");
   cmd->callback([args, &exit_code] { exit_code = run_eval(*args); });
 }
 

@@ -35,11 +35,18 @@ struct RuleOutcome {
   int flip_free = 0, tracked = 0, chosen_rank = 0;
 };
 
+// One refined candidate of the "as set" run: its dense evidence and its ground-truth score.
+struct CandidateOutcome {
+  double orientation = 0, neighbourhood = 0, distortion = 0, round_trip = 0, signature = 0, d_grd = 0;
+  int flip_free = 0, chosen = 0;
+};
+
 struct PairOutcome {
   bool ok = false;
   int vertices = 0;
   double seconds = 0, peak_mb = 0;
   std::array<RuleOutcome, 3> variants;  // as set, C2F only, paper
+  std::vector<CandidateOutcome> candidates;  // with --candidates
   std::string error;
 };
 
@@ -61,7 +68,8 @@ RuleOutcome score(const MatchResult& result, const TriangleMesh& target, const F
 }
 
 // Runs in the child: the whole job as a user would run it, then scoring (not timed).
-PairOutcome run_pair(const std::string& dataset, const BenchmarkPair& pair, MatchSettings settings, int points) {
+PairOutcome run_pair(const std::string& dataset, const BenchmarkPair& pair, MatchSettings settings, int points,
+                     bool as_set_only, bool candidates) {
   PairOutcome outcome;
   const auto start = std::chrono::steady_clock::now();
   const LoadedMesh source = load_mesh(pair.source_path);
@@ -69,17 +77,31 @@ PairOutcome run_pair(const std::string& dataset, const BenchmarkPair& pair, Matc
   MeshPairShapes shapes(source.mesh, target.mesh);  // the other variants reuse the preprocessing
   const MatchResult as_set = run_match(shapes, settings);
   outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  settings.refine = RefineMethod::kNone;
-  const MatchResult c2f = run_match(shapes, settings);
-  settings.selection = SelectionRule::kLeastDistortion;
-  const MatchResult paper = run_match(shapes, settings);
+  MatchResult c2f, paper;
+  if (!as_set_only) {
+    settings.refine = RefineMethod::kNone;
+    c2f = run_match(shapes, settings);
+    settings.selection = SelectionRule::kLeastDistortion;
+    paper = run_match(shapes, settings);
+  }
 
   const GroundTruth truth = load_ground_truth(dataset, pair, source.mesh.num_vertices(), target.mesh.num_vertices());
   const MeshTopology topology(target.mesh);
   const FastMarching geodesics(target.mesh, topology);
   const double diameter = estimate_geodesic_diameter(geodesics);
   const MatchResult* results[] = {&as_set, &c2f, &paper};
-  for (int i = 0; i < 3; ++i) outcome.variants[i] = score(*results[i], target.mesh, geodesics, diameter, truth, points);
+  for (int i = 0; i < (as_set_only ? 1 : 3); ++i) outcome.variants[i] = score(*results[i], target.mesh, geodesics, diameter, truth, points);
+  if (candidates) {
+    EvaluationOptions options;
+    options.max_points = points;
+    for (size_t i = 0; i < as_set.refined.size(); ++i) {
+      const DenseCandidate& c = as_set.refined[i];
+      const GroundTruthScore s = score_against_ground_truth(target.mesh, geodesics, diameter, c.forward, truth, options);
+      outcome.candidates.push_back({c.evidence.orientation, c.evidence.neighbourhood_orientation, c.evidence.distortion,
+                                    c.evidence.round_trip, c.evidence.signature_disagreement, s.mean_error,
+                                    s.flip_free, static_cast<int>(i) == as_set.refined_chosen});
+    }
+  }
   outcome.vertices = source.mesh.num_vertices();
   outcome.ok = true;
   return outcome;
@@ -92,6 +114,10 @@ std::string serialise(const PairOutcome& o) {
   for (const RuleOutcome& r : o.variants)
     out << ' ' << r.d_grd << ' ' << r.d_grd_max << ' ' << r.kim_auc << ' ' << r.diso << ' ' << r.mirrored
         << ' ' << r.flip_free << ' ' << r.tracked << ' ' << r.chosen_rank;
+  out << ' ' << o.candidates.size();
+  for (const CandidateOutcome& c : o.candidates)
+    out << ' ' << c.orientation << ' ' << c.neighbourhood << ' ' << c.distortion << ' ' << c.round_trip << ' '
+        << c.signature << ' ' << c.d_grd << ' ' << c.flip_free << ' ' << c.chosen;
   out << ' ' << o.error;
   return out.str();
 }
@@ -103,20 +129,26 @@ PairOutcome deserialise(const std::string& line) {
   for (RuleOutcome& r : o.variants)
     in >> r.d_grd >> r.d_grd_max >> r.kim_auc >> r.diso >> r.mirrored >> r.flip_free >> r.tracked >>
         r.chosen_rank;
+  size_t count = 0;
+  in >> count;
+  o.candidates.resize(count);
+  for (CandidateOutcome& c : o.candidates)
+    in >> c.orientation >> c.neighbourhood >> c.distortion >> c.round_trip >> c.signature >> c.d_grd >> c.flip_free >>
+        c.chosen;
   std::getline(in >> std::ws, o.error);
   return o;
 }
 
 PairOutcome run_in_child(const std::string& dataset, const BenchmarkPair& pair, const MatchSettings& settings,
-                         int points) {
+                         int points, bool as_set_only, bool candidates) {
   int fds[2];
-  if (pipe(fds) != 0) return {false, 0, 0, 0, {}, "pipe failed"};
+  if (pipe(fds) != 0) return {false, 0, 0, 0, {}, {}, "pipe failed"};
   const pid_t pid = fork();
   if (pid == 0) {
     close(fds[0]);
     PairOutcome outcome;
     try {
-      outcome = run_pair(dataset, pair, settings, points);
+      outcome = run_pair(dataset, pair, settings, points, as_set_only, candidates);
     } catch (const std::exception& e) {
       outcome.error = e.what();
     }
@@ -132,7 +164,7 @@ PairOutcome run_in_child(const std::string& dataset, const BenchmarkPair& pair, 
   int status = 0;
   struct rusage usage {};
   wait4(pid, &status, 0, &usage);
-  PairOutcome outcome = line.empty() ? PairOutcome{false, 0, 0, 0, {}, "child died"} : deserialise(line);
+  PairOutcome outcome = line.empty() ? PairOutcome{false, 0, 0, 0, {}, {}, "child died"} : deserialise(line);
   outcome.peak_mb = usage.ru_maxrss / 1024.0;
   return outcome;
 }
@@ -161,12 +193,15 @@ int main(int argc, char** argv) {
   std::vector<std::string> datasets;
   std::string data_root = "../shared/data", protocol;
   int limit = 0, points = 1000;
+  bool as_set_only = false, candidates = false;
   MatchSettings settings;
   app.add_option("datasets", datasets, "dataset folders under --data (default: tosca_hires faust_reg6890 scape)");
   app.add_option("--data", data_root, "root of the benchmark data")->capture_default_str();
   app.add_option("--limit", limit, "at most this many pairs per dataset (0 = all)")->capture_default_str();
   app.add_option("--protocol", protocol, "only pairs whose protocol column contains this");
   app.add_option("--points", points, "ground-truth points scored per pair")->capture_default_str();
+  app.add_flag("--as-set-only", as_set_only, "score only the settings given (skip the C2F and paper variants)");
+  app.add_flag("--candidates", candidates, "print every refined candidate's dense evidence and ground-truth score");
   isocorr::cli::add_match_settings_flags(app, settings);
   CLI11_PARSE(app, argc, argv);
   if (datasets.empty()) datasets = {"tosca_hires", "faust_reg6890", "scape"};
@@ -186,16 +221,20 @@ int main(int argc, char** argv) {
       if (!protocol.empty() && pair.protocol.find(protocol) == std::string::npos) continue;
       if (limit > 0 && taken >= limit) break;
       ++taken;
-      const PairOutcome o = run_in_child(dir, pair, settings, points);
+      const PairOutcome o = run_in_child(dir, pair, settings, points, as_set_only, candidates);
       const auto stem = [](const std::string& p) { return std::filesystem::path(p).stem().string(); };
       if (o.ok) {
         std::printf("%-14s %-12s -> %-12s V=%6d %7.2f s %6.0f MB", name.c_str(), stem(pair.source_path).c_str(),
                     stem(pair.target_path).c_str(), o.vertices, o.seconds, o.peak_mb);
         const char* labels[] = {"as set", "C2F", "paper"};
-        for (int i = 0; i < 3; ++i)
+        for (int i = 0; i < (as_set_only ? 1 : 3); ++i)
           std::printf(" | %s: %s D_grd %.4f #%d", labels[i], o.variants[i].flip_free ? "ok  " : "FLIP",
                       o.variants[i].d_grd, o.variants[i].chosen_rank + 1);
         std::printf("\n");
+        for (const CandidateOutcome& c : o.candidates)
+          std::printf("    candidate%s orientation %.3f neighbourhood %.3f distortion %.4f round trip %.4f signature %.4f"
+                      " | %s D_grd %.4f\n", c.chosen ? "*" : " ", c.orientation, c.neighbourhood, c.distortion,
+                      c.round_trip, c.signature, c.flip_free ? "ok  " : "FLIP", c.d_grd);
         scaling.push_back({o.vertices, o.seconds});
       } else {
         std::printf("%-14s %-12s -> %-12s FAILED: %s\n", name.c_str(), stem(pair.source_path).c_str(),
@@ -210,6 +249,7 @@ int main(int argc, char** argv) {
       if (o.ok) ++ok, seconds += o.seconds, peak = std::max(peak, o.peak_mb);
     std::printf("== %s: %d pairs, %.2f s per pair, peak %.0f MB\n", name.c_str(), ok, ok ? seconds / ok : 0.0, peak);
     print_rule_row("as set", outcomes, 0);
+    if (as_set_only) continue;
     print_rule_row("C2F only", outcomes, 1);
     print_rule_row("paper", outcomes, 2);
   }

@@ -66,5 +66,29 @@ TEST_F(HandednessOnBlob, GuardAcceptsTrueImagesAndRejectsMirrorImages) {
   EXPECT_LT(accepted_share(*mirror_), 0.05);
 }
 
+// The neighbourhood test on a noisy dense map: each image moved to a random neighbour folds
+// many single faces, but neighbourhoods a few rings wide keep their handedness; the mirror
+// with the same noise reverses them.
+TEST_F(HandednessOnBlob, NeighbourhoodsSeeThroughPerVertexNoise) {
+  const int n = shape_->mesh().num_vertices();
+  const MeshTopology& topology = shape_->geodesics().topology();
+  std::vector<int> noisy(n), every(n);
+  for (int v = 0; v < n; ++v) {
+    every[v] = v;
+    const int degree = static_cast<int>(topology.neighbours_end(v) - topology.neighbours_begin(v));
+    noisy[v] = v % 2 ? topology.neighbours_begin(v)[(v / 2) % degree] : v;
+  }
+  const double radius = 0.05 * shape_->diameter();
+  const double faces_kept =
+      dense_orientation_agreement(shape_->mesh(), shape_->normals(), shape_->mesh(), shape_->normals(), noisy);
+  const double kept = neighbourhood_orientation_agreement(shape_->mesh(), shape_->normals(), topology, shape_->mesh(),
+                                                          shape_->normals(), noisy, every, radius, 2);
+  const double mirrored_kept = neighbourhood_orientation_agreement(
+      shape_->mesh(), shape_->normals(), topology, mirror_->mesh(), mirror_->normals(), noisy, every, radius, 2);
+  EXPECT_LT(faces_kept, 0.9);
+  EXPECT_GT(kept, 0.95);
+  EXPECT_LT(mirrored_kept, 0.05);
+}
+
 }  // namespace
 }  // namespace isocorr

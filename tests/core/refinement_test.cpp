@@ -4,6 +4,7 @@
 #include <random>
 
 #include "isocorr/mesh/procedural_meshes.h"
+#include "isocorr/refinement/dense_choice.h"
 #include "isocorr/refinement/refinement.h"
 #include "isocorr/refinement/zoomout.h"
 
@@ -125,16 +126,67 @@ TEST(DenseChoice, PrefersTheTrueMapToItsMirrorImage) {
   EXPECT_GE(near, 0.95);
 }
 
-TEST(DenseChoice, ATurnedMapLosesOnDistortionAndRoundTrip) {
+TEST(DenseChoice, ATurnedMapLosesOnHeatSignatures) {
   std::vector<DenseCandidate> candidates(3);
-  candidates[0].evidence = {0.95, 0.06, 0.07, 0.05};  // turned: keeps handedness, stretches
-  candidates[1].evidence = {0.97, 0.01, 0.02, 0.005};  // true
-  candidates[2].evidence = {0.05, 0.01, 0.03, 0.005};  // mirror: as isometric, wrong hand
+  // Turned: keeps handedness and is as isometric between coarse samples, but its points
+  // land where the surface looks different.
+  candidates[0].evidence.orientation = 0.95;
+  candidates[0].evidence.distortion = 0.009;
+  candidates[0].evidence.signature_disagreement = 0.014;
+  candidates[1].evidence.orientation = 0.97;  // true
+  candidates[1].evidence.distortion = 0.010;
+  candidates[1].evidence.signature_disagreement = 0.008;
+  candidates[2].evidence.orientation = 0.05;  // mirror: as isometric, as similar, wrong hand
+  candidates[2].evidence.distortion = 0.010;
+  candidates[2].evidence.signature_disagreement = 0.008;
   std::string why;
   EXPECT_EQ(choose_dense_candidate(candidates, 0.1, why), 1);
   EXPECT_TRUE(candidates[2].mirrored);
   EXPECT_FALSE(candidates[0].mirrored);
-  EXPECT_FALSE(why.empty());
+  EXPECT_NE(why.find("signature"), std::string::npos);
+}
+
+// On an asymmetric shape, the true map of a rotated, scaled, renumbered copy has (up to
+// the copy's float rounding) the same signatures at both ends; a map that sends each point
+// to where another point goes does not.
+TEST(DenseChoice, HeatSignaturesAgreeAlongTheTrueMapOnly) {
+  const TriangleMesh blob = limbed_blob(4);
+  const RenumberedCopy copy = rotated_scaled_renumbered(blob, 1.7, 5);
+  const auto source = PreprocessedShape::build(blob, spectral_options());
+  const auto target = PreprocessedShape::build(copy.mesh, spectral_options());
+  const double along_truth = heat_signature_disagreement(*source, *target, copy.permutation);
+  EXPECT_LT(along_truth, 1e-3);
+
+  const int n = blob.num_vertices();
+  std::vector<int> shifted(n);
+  for (int v = 0; v < n; ++v) shifted[v] = copy.permutation[(static_cast<long long>(v) * 7919 + 13) % n];
+  EXPECT_GT(heat_signature_disagreement(*source, *target, shifted), 10 * along_truth + 0.01);
+}
+
+// The polish continues the chosen map on every vertex with a larger basis: from the same
+// noisy start, it ends at least as close to the truth as the map it started from, and its
+// functional map has the polished size.
+TEST(ZoomOut, PolishGrowsTheBasisAndKeepsTheMapRight) {
+  const TriangleMesh blob = limbed_blob(4);
+  const RenumberedCopy copy = rotated_scaled_renumbered(blob, 1.7, 5);
+  const auto source = PreprocessedShape::build(blob, spectral_options());
+  const auto target = PreprocessedShape::build(copy.mesh, spectral_options());
+  std::vector<std::pair<int, int>> start;
+  for (int v = 0; v < blob.num_vertices(); v += 7) start.emplace_back(v, copy.permutation[v]);
+  ZoomOutOptions options;
+  options.k_start = 10;
+  options.k_end = 30;
+  options.polish_k_end = 60;
+  SpectralMap map = zoomout(side_of(*source), side_of(*target), start, options);
+  const double exact_before = exact_and_near(map.image, copy.permutation, target->geodesics().topology()).first;
+  zoomout_polish(side_of(*source), side_of(*target), options, map);
+  EXPECT_EQ(map.c.rows(), 60);
+  const auto [exact, near] = exact_and_near(map.image, copy.permutation, target->geodesics().topology());
+  EXPECT_GE(exact, exact_before);
+  EXPECT_GE(near, 0.999);
+  std::vector<int> inverse(copy.permutation.size());
+  for (size_t v = 0; v < inverse.size(); ++v) inverse[copy.permutation[v]] = static_cast<int>(v);
+  EXPECT_GE(exact_and_near(map.reverse_image, inverse, source->geodesics().topology()).second, 0.999);
 }
 
 }  // namespace

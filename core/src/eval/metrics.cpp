@@ -133,6 +133,13 @@ GroundTruthScore score_against_ground_truth(const TriangleMesh& target, const Fa
   score.kim_auc /= static_cast<double>(score.kim_curve.size());
   score.far_fraction = static_cast<double>(far) / count;
   if (has_mirror) score.mirrored_fraction = static_cast<double>(mirrored) / count;
+  score.point_sources.resize(count);
+  score.point_errors.resize(count);
+  for (int i = 0; i < count; ++i) {
+    score.point_sources[i] = truth.source[chosen[i]];
+    score.point_errors[i] = error[i] / target_diameter;
+  }
+  score.point_nearer_mirror = std::move(nearer_mirror);
   score.flip_free = score.mean_error < kFlipFreeMean &&
                     (has_mirror ? score.mirrored_fraction : score.far_fraction) <= kFlipFreeFraction;
   return score;

@@ -136,6 +136,11 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
     out.forward[i] = tc.clean_to_input[dense.forward[c]];
     out.forward_confidence[i] = dense.forward_diso[c];
   }
+  for (DenseCandidate& candidate : result.refined) {
+    std::vector<int> in_files(sc.input_to_clean.size());
+    for (size_t i = 0; i < in_files.size(); ++i) in_files[i] = tc.clean_to_input[candidate.forward[sc.input_to_clean[i]]];
+    candidate.forward = std::move(in_files);
+  }
   out.reverse.resize(tc.input_to_clean.size());
   out.reverse_confidence.resize(tc.input_to_clean.size());
   for (size_t i = 0; i < tc.input_to_clean.size(); ++i) {

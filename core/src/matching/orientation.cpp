@@ -3,8 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <limits>
+#include <queue>
 
 #include <Eigen/Geometry>
+
+#include "isocorr/util/parallel.h"
 
 namespace isocorr {
 namespace {
@@ -125,6 +129,91 @@ double dense_orientation_agreement(const TriangleMesh& source, const std::vector
     ++total;
     if ((s > 0) == (t > 0)) ++agree;
   }
+  return total ? static_cast<double>(agree) / total : 0.5;
+}
+
+namespace {
+
+// Two unit vectors spanning the plane orthogonal to n.
+std::pair<Vec3, Vec3> tangent_frame(const Vec3& n) {
+  const Vec3 helper = std::abs(n.x()) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+  const Vec3 u = n.cross(helper).normalized();
+  return {u, n.cross(u)};
+}
+
+// Vertices within `radius` of `centre` along edges, by a Dijkstra that only touches them.
+// `distance` holds +inf for every vertex on entry and on exit.
+void gather_neighbourhood(const TriangleMesh& mesh, const MeshTopology& topology, int centre, double radius,
+                          std::vector<double>& distance, std::vector<int>& reached) {
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> heap;
+  reached.clear();
+  distance[centre] = 0;
+  reached.push_back(centre);
+  heap.push({0.0, centre});
+  while (!heap.empty()) {
+    const auto [d, v] = heap.top();
+    heap.pop();
+    if (d > distance[v]) continue;
+    for (const int* w = topology.neighbours_begin(v); w != topology.neighbours_end(v); ++w) {
+      const double candidate = d + (mesh.vertices[*w] - mesh.vertices[v]).norm();
+      if (candidate > radius || candidate >= distance[*w]) continue;
+      if (distance[*w] == std::numeric_limits<double>::infinity()) reached.push_back(*w);
+      distance[*w] = candidate;
+      heap.push({candidate, *w});
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<signed char> neighbourhood_handedness(const TriangleMesh& source, const std::vector<Vec3>& source_normals,
+                                                  const MeshTopology& source_topology, const TriangleMesh& target,
+                                                  const std::vector<Vec3>& target_normals,
+                                                  const std::vector<int>& target_of, const std::vector<int>& centres,
+                                                  double radius, int threads) {
+  threads = resolve_thread_count(threads);
+  const int count = static_cast<int>(centres.size());
+  struct Workspace {
+    std::vector<double> distance;
+    std::vector<int> reached;
+  };
+  std::vector<Workspace> workspaces(threads);
+  for (auto& ws : workspaces) ws.distance.assign(source.num_vertices(), std::numeric_limits<double>::infinity());
+  std::vector<signed char> sign(count, 0);
+  parallel_for(count, threads, [&](int i, int worker) {
+    Workspace& ws = workspaces[worker];
+    const int v = centres[i];
+    gather_neighbourhood(source, source_topology, v, radius, ws.distance, ws.reached);
+    const auto [su, sv] = tangent_frame(source_normals[v]);
+    const int image = target_of[v];
+    const auto [tu, tv] = tangent_frame(target_normals[image]);
+    // Cross-covariance of source and image offsets: its determinant has the sign of the
+    // least-squares differential's (the source covariance's determinant is positive).
+    Eigen::Matrix2d cross = Eigen::Matrix2d::Zero();
+    for (const int w : ws.reached) {
+      const Vec3 ds = source.vertices[w] - source.vertices[v];
+      const Vec3 dt = target.vertices[target_of[w]] - target.vertices[image];
+      const Eigen::Vector2d p(ds.dot(su), ds.dot(sv)), q(dt.dot(tu), dt.dot(tv));
+      cross += q * p.transpose();
+      ws.distance[w] = std::numeric_limits<double>::infinity();
+    }
+    const double det = cross.determinant();
+    const double scale = cross.squaredNorm();
+    if (scale > 0 && std::abs(det) > 1e-6 * scale) sign[i] = det > 0 ? 1 : -1;
+  });
+  return sign;
+}
+
+double neighbourhood_orientation_agreement(const TriangleMesh& source, const std::vector<Vec3>& source_normals,
+                                           const MeshTopology& source_topology, const TriangleMesh& target,
+                                           const std::vector<Vec3>& target_normals,
+                                           const std::vector<int>& target_of, const std::vector<int>& centres,
+                                           double radius, int threads) {
+  const std::vector<signed char> sign = neighbourhood_handedness(source, source_normals, source_topology, target,
+                                                                 target_normals, target_of, centres, radius, threads);
+  int agree = 0, total = 0;
+  for (const signed char s : sign) total += s != 0, agree += s > 0;
   return total ? static_cast<double>(agree) / total : 0.5;
 }
 

@@ -36,6 +36,8 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
       refined.push_back({{"tracked", c.tracked_index},
                          {"level0_rank", result.tracked[c.tracked_index].level0_rank},
                          {"orientation", c.evidence.orientation},
+                         {"neighbourhood_orientation", c.evidence.neighbourhood_orientation},
+                         {"signature_disagreement", c.evidence.signature_disagreement},
                          {"distortion", c.evidence.distortion},
                          {"distortion_max", c.evidence.distortion_max},
                          {"round_trip", c.evidence.round_trip},

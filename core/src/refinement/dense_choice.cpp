@@ -13,8 +13,45 @@ namespace {
 // The coarse samples come first in the hierarchy, so the first ones are spread over the
 // whole shape: distant pairs are where a turned map shows.
 constexpr int kDistortionTargets = 64;
+constexpr double kNeighbourhoodRadius = 0.03;  // x diameter: above a refined map's error
+
+constexpr int kSignatureTimes = 16;
+
+// Heat-kernel signature of basis row v at `times`, each scale divided by its trace so that
+// the constant function reads 1 (the basis is area-normalised: scales are comparable).
+std::vector<double> heat_signature(const PreprocessedShape& shape, int v, const std::vector<double>& times) {
+  const auto& basis = shape.spectral_basis();
+  const Eigen::VectorXf& values = shape.spectral_eigenvalues();
+  std::vector<double> signature(times.size(), 0.0);
+  for (size_t j = 0; j < times.size(); ++j) {
+    double sum = 0, trace = 0;
+    for (int i = 0; i < values.size(); ++i) {
+      const double w = std::exp(-values(i) * times[j]);
+      sum += w * basis(v, i) * basis(v, i);
+      trace += w;
+    }
+    signature[j] = sum / trace;
+  }
+  return signature;
+}
 
 }  // namespace
+
+double heat_signature_disagreement(const PreprocessedShape& source, const PreprocessedShape& target,
+                                   const std::vector<int>& forward) {
+  const Eigen::VectorXf& values = source.spectral_eigenvalues();
+  if (values.size() < 3 || !(values(1) > 0) || !(values(values.size() - 1) > values(1))) return 0;
+  const double t_min = 4 * std::log(10.0) / values(values.size() - 1), t_max = 4 * std::log(10.0) / values(1);
+  std::vector<double> times(kSignatureTimes);
+  for (int j = 0; j < kSignatureTimes; ++j)
+    times[j] = t_min * std::pow(t_max / t_min, j / static_cast<double>(kSignatureTimes - 1));
+  double total = 0;
+  for (const int v : source.spectral_samples()) {
+    const auto hs = heat_signature(source, v, times), ht = heat_signature(target, forward[v], times);
+    for (int j = 0; j < kSignatureTimes; ++j) total += std::abs(hs[j] - ht[j]) / (hs[j] + ht[j] + 1e-12);
+  }
+  return total / (kSignatureTimes * std::max<size_t>(1, source.spectral_samples().size()));
+}
 
 DenseEvidence measure_dense_map(const PreprocessedShape& source, const PreprocessedShape& target,
                                 const std::vector<int>& forward, const std::vector<int>& reverse,
@@ -22,6 +59,10 @@ DenseEvidence measure_dense_map(const PreprocessedShape& source, const Preproces
   DenseEvidence evidence;
   evidence.orientation =
       dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(), target.normals(), forward);
+  evidence.neighbourhood_orientation = neighbourhood_orientation_agreement(
+      source.mesh(), source.normals(), source.geodesics().topology(), target.mesh(), target.normals(), forward,
+      source.spectral_samples(), kNeighbourhoodRadius * source.diameter(), threads);
+  evidence.signature_disagreement = heat_signature_disagreement(source, target, forward);
 
   const int targets = std::min(kDistortionTargets, source.num_samples());
   const int sources = std::min(distortion_sources, targets);
@@ -58,13 +99,13 @@ int choose_dense_candidate(std::vector<DenseCandidate>& candidates, double orien
   int winner = -1;
   for (int i = 0; i < static_cast<int>(candidates.size()); ++i) {
     DenseCandidate& c = candidates[i];
-    c.score = c.evidence.distortion + c.evidence.round_trip;
+    c.score = c.evidence.signature_disagreement;
     c.mirrored = c.evidence.orientation < best_orientation - orientation_margin;
     if (!c.mirrored && (winner < 0 || c.score < candidates[winner].score)) winner = i;
   }
   char text[200];
   std::snprintf(text, sizeof text,
-                "least distortion + round trip (%.4f) among the %d of %d refined candidates whose orientation "
+                "least heat-signature disagreement (%.4f) among the %d of %d refined candidates whose orientation "
                 "is within %.2f of the best (%.3f)",
                 candidates[winner].score,
                 static_cast<int>(std::count_if(candidates.begin(), candidates.end(),

@@ -56,6 +56,7 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
     maps.push_back(zoomout(source_side, target_side, start, options, control));
     DenseCandidate candidate;
     candidate.tracked_index = index;
+    candidate.forward = maps.back().image;
     candidate.evidence = measure_dense_map(source, target, maps.back().image, maps.back().reverse_image,
                                            settings.dense_choice_sources, settings.threads);
     result.candidates.push_back(candidate);
@@ -63,6 +64,8 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
   }
   result.chosen = choose_dense_candidate(result.candidates, settings.orientation_margin, result.why);
   SpectralMap& winner = maps[result.chosen];
+  zoomout_polish(source_side, target_side, options, winner, control);
+  result.candidates[result.chosen].forward = winner.image;
   result.dense.forward = std::move(winner.image);
   result.dense.forward_diso = std::move(winner.residual);
   result.dense.reverse = std::move(winner.reverse_image);

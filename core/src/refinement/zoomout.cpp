@@ -77,6 +77,37 @@ std::vector<int> starts_from_samples(const MeshTopology& topology, int vertex_co
   return start;
 }
 
+// One ZoomOut step on every vertex at the rows' basis size: C refitted to the current map,
+// then each vertex's image moved by descent from where it is (O(V k), no all-pairs search:
+// the map is already close, so the nearest row lies near the current image).
+Eigen::MatrixXf refit_on_every_vertex(const RowMatrix& source_rows, const RowMatrix& target_rows,
+                                      const FunctionalMapFit& fit, int threads, const MeshTopology& target_topology,
+                                      SpectralMap& map) {
+  const int k = static_cast<int>(source_rows.cols());
+  Eigen::MatrixXf c = fit_functional_map(source_rows, gather_rows(target_rows, map.image, k), fit);
+  const std::vector<int> start = map.image;
+  recover_dense(source_rows * c, target_rows, target_topology, start, threads, map.image, map.residual);
+  return c;
+}
+
+// The reverse map from the same C: each target vertex goes to the source vertex whose
+// pulled-back row (`pulled` = source rows times C) is nearest, so forward and reverse
+// answer one functional map.
+void recover_reverse(const SpectralSide& source, const SpectralSide& target, const RowMatrix& pulled,
+                     const RowMatrix& target_rows, int threads, SpectralMap& map) {
+  const int k = static_cast<int>(pulled.cols());
+  const std::vector<int>& source_samples = *source.samples;
+  const std::vector<int>& target_samples = *target.samples;
+  const std::vector<int> nearest =
+      nearest_rows(gather_rows(target_rows, target_samples, k), gather_rows(pulled, source_samples, k), threads);
+  std::vector<int> reverse_images(target_samples.size());
+  for (size_t i = 0; i < reverse_images.size(); ++i) reverse_images[i] = source_samples[nearest[i]];
+  recover_dense(target_rows, pulled, *source.topology,
+                starts_from_samples(*target.topology, static_cast<int>(target_rows.rows()), target_samples,
+                                    reverse_images),
+                threads, map.reverse_image, map.reverse_residual);
+}
+
 }  // namespace
 
 SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
@@ -122,30 +153,41 @@ SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
   SpectralMap result;
   const RowMatrix source_rows = phi_s.leftCols(k_end);
   const RowMatrix target_rows = phi_t.leftCols(k_end);
-  RowMatrix pulled = source_rows * c;  // source vertices in target coordinates
-  recover_dense(pulled, target_rows, *target.topology,
+  recover_dense(source_rows * c, target_rows, *target.topology,
                 starts_from_samples(*source.topology, static_cast<int>(phi_s.rows()), source_samples, images),
                 threads, result.image, result.residual);
   for (int iteration = 0; iteration < options.dense_iterations; ++iteration) {
     control.check_cancelled();
-    c = fit_functional_map(source_rows, gather_rows(target_rows, result.image, k_end), fit);
-    pulled = source_rows * c;
-    const std::vector<int> start = result.image;
-    recover_dense(pulled, target_rows, *target.topology, start, threads, result.image, result.residual);
+    c = refit_on_every_vertex(source_rows, target_rows, fit, threads, *target.topology, result);
   }
   result.c = c;
   control.check_cancelled();
-
-  // The reverse map from the same C: each target vertex goes to the source vertex whose
-  // pulled-back row is nearest, so forward and reverse answer one functional map.
-  const RowMatrix pulled_samples = gather_rows(pulled, source_samples, k_end);
-  const std::vector<int> nearest = nearest_rows(gather_rows(target_rows, target_samples, k_end), pulled_samples, threads);
-  std::vector<int> reverse_images(target_samples.size());
-  for (size_t i = 0; i < reverse_images.size(); ++i) reverse_images[i] = source_samples[nearest[i]];
-  recover_dense(target_rows, pulled, *source.topology,
-                starts_from_samples(*target.topology, static_cast<int>(phi_t.rows()), target_samples, reverse_images),
-                threads, result.reverse_image, result.reverse_residual);
+  recover_reverse(source, target, source_rows * c, target_rows, threads, result);
   return result;
+}
+
+void zoomout_polish(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options,
+                    SpectralMap& map, const JobControl& control) {
+  const RowMatrix& phi_s = *source.basis;
+  const RowMatrix& phi_t = *target.basis;
+  const int k_end = std::min<int>({options.polish_k_end, static_cast<int>(phi_s.cols()), static_cast<int>(phi_t.cols())});
+  int k = static_cast<int>(map.c.rows());
+  if (k >= k_end) return;
+  const int threads = resolve_thread_count(options.threads);
+  FunctionalMapFit fit;
+  fit.source_eigenvalues = source.eigenvalues;
+  fit.target_eigenvalues = target.eigenvalues;
+  fit.commutativity = options.commutativity;
+  RowMatrix source_rows, target_rows;
+  while (k < k_end) {
+    control.check_cancelled();
+    k = std::min(k + std::max(1, options.k_step), k_end);
+    source_rows = phi_s.leftCols(k);
+    target_rows = phi_t.leftCols(k);
+    map.c = refit_on_every_vertex(source_rows, target_rows, fit, threads, *target.topology, map);
+  }
+  control.check_cancelled();
+  recover_reverse(source, target, source_rows * map.c, target_rows, threads, map);
 }
 
 }  // namespace isocorr

@@ -135,6 +135,9 @@ std::vector<SettingField> build_schema() {
       row("zoomout_dense_iterations", kMatch, closed(0, 20),
           "spectral refinement: refits of the functional map on every vertex after the sampled iterations",
           [](auto& s) -> auto& { return s.zoomout.dense_iterations; }),
+      row("zoomout_polish_k_end", kMatch, closed(0, 1000),
+          "spectral refinement: the chosen map is refined on every vertex up to this basis size (at most zoomout_k_end: no polish)",
+          [](auto& s) -> auto& { return s.zoomout.polish_k_end; }),
       row("zoomout_commutativity", kMatch, closed(0, 1000),
           "spectral refinement: weight of the Laplacian commutativity term in each functional-map fit (0 = none)",
           [](auto& s) -> auto& { return s.zoomout.commutativity; }),
@@ -300,6 +303,9 @@ void MatchSettings::validate() const {
   if (refine != RefineMethod::kNone && zoomout.k_end > preprocess.spectral_basis)
     throw InputError("setting zoomout_k_end = " + std::to_string(zoomout.k_end) + " exceeds spectral_basis = " +
                      std::to_string(preprocess.spectral_basis) + ", the eigenpairs kept per mesh (or use refine = none)");
+  if (refine != RefineMethod::kNone && zoomout.polish_k_end > preprocess.spectral_basis)
+    throw InputError("setting zoomout_polish_k_end = " + std::to_string(zoomout.polish_k_end) +
+                     " exceeds spectral_basis = " + std::to_string(preprocess.spectral_basis));
   if (zoomout.k_start > zoomout.k_end)
     throw InputError("setting zoomout_k_start = " + std::to_string(zoomout.k_start) + " exceeds zoomout_k_end = " +
                      std::to_string(zoomout.k_end));

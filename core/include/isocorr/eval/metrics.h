@@ -22,6 +22,10 @@ struct GroundTruthScore {
   double far_fraction = 0;      // fraction with error > 0.2 of the diameter
   bool flip_free = false;
   std::string flip_rule;        // the rule used, stated beside every figure
+  // Per scored point: its source vertex, its error / diameter, nearer its mirror image.
+  std::vector<int> point_sources;
+  std::vector<double> point_errors;
+  std::vector<char> point_nearer_mirror;
 };
 
 struct EvaluationOptions {

@@ -25,6 +25,7 @@ struct ZoomOutOptions {
   int k_end = 100;   // last basis size (at most the basis the shapes hold)
   int k_step = 5;    // growth per iteration (the paper: 1-5)
   int dense_iterations = 1;  // refits of C on every vertex after the sampled iterations
+  int polish_k_end = 0;      // zoomout_polish grows the basis on every vertex up to this
   double commutativity = 0;  // weight of the Laplacian commutativity term in each fit
                              // (functional_map_fit.h). Off by default: at 10 it lowers
                              // the error (SCAPE D_grd 0.0099 -> 0.0093, TOSCA 5k 0.0183 ->
@@ -57,5 +58,12 @@ struct SpectralMap {
 SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
                     const std::vector<std::pair<int, int>>& start, const ZoomOutOptions& options,
                     const JobControl& control = {});
+
+// Continues a refined map on every vertex: the basis grows by k_step from the map's C up
+// to options.polish_k_end (at most the bases' size), each step refitting C and moving every
+// image by descent; then the reverse map is recomputed from the last C. Meant for the chosen
+// candidate only: sharper high frequencies, at O(V k) per step.
+void zoomout_polish(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options,
+                    SpectralMap& map, const JobControl& control = {});
 
 }  // namespace isocorr
