@@ -42,7 +42,7 @@ Eigen::MatrixXf fit_functional_map(const SpectralRows& a, const SpectralRows& b,
   } else {
     c = normal.ldlt().solve(rhs);
   }
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(c, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::BDCSVD<Eigen::MatrixXd> svd(c, Eigen::ComputeFullU | Eigen::ComputeFullV);
   return (svd.matrixU() * svd.matrixV().transpose()).cast<float>();
 }
 
