@@ -129,18 +129,15 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
   const CleanMesh& sc = source.clean();
   const CleanMesh& tc = target.clean();
   MatchOutput& out = result.output;
-  out.forward.resize(sc.input_to_clean.size());
-  out.forward_confidence.resize(sc.input_to_clean.size());
-  for (size_t i = 0; i < sc.input_to_clean.size(); ++i) {
-    const int c = sc.input_to_clean[i];
-    out.forward[i] = tc.clean_to_input[dense.forward[c]];
-    out.forward_confidence[i] = dense.forward_diso[c];
-  }
-  for (DenseCandidate& candidate : result.refined) {
+  auto forward_in_files = [&](const std::vector<int>& clean_forward) {
     std::vector<int> in_files(sc.input_to_clean.size());
-    for (size_t i = 0; i < in_files.size(); ++i) in_files[i] = tc.clean_to_input[candidate.forward[sc.input_to_clean[i]]];
-    candidate.forward = std::move(in_files);
-  }
+    for (size_t i = 0; i < in_files.size(); ++i) in_files[i] = tc.clean_to_input[clean_forward[sc.input_to_clean[i]]];
+    return in_files;
+  };
+  out.forward = forward_in_files(dense.forward);
+  out.forward_confidence.resize(sc.input_to_clean.size());
+  for (size_t i = 0; i < sc.input_to_clean.size(); ++i) out.forward_confidence[i] = dense.forward_diso[sc.input_to_clean[i]];
+  for (DenseCandidate& candidate : result.refined) candidate.forward = forward_in_files(candidate.forward);
   out.reverse.resize(tc.input_to_clean.size());
   out.reverse_confidence.resize(tc.input_to_clean.size());
   for (size_t i = 0; i < tc.input_to_clean.size(); ++i) {

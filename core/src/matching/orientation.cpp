@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <limits>
+#include <numeric>
 #include <queue>
 
 #include <Eigen/Geometry>
@@ -165,8 +165,8 @@ void gather_neighbourhood(const TriangleMesh& mesh, const MeshTopology& topology
   }
 }
 
-}  // namespace
-
+// +1 per centre where the neighbourhood keeps handedness, -1 where the map reverses it, 0
+// where the fit is degenerate.
 std::vector<signed char> neighbourhood_handedness(const TriangleMesh& source, const std::vector<Vec3>& source_normals,
                                                   const MeshTopology& source_topology, const TriangleMesh& target,
                                                   const std::vector<Vec3>& target_normals,
@@ -204,6 +204,8 @@ std::vector<signed char> neighbourhood_handedness(const TriangleMesh& source, co
   });
   return sign;
 }
+
+}  // namespace
 
 double neighbourhood_orientation_agreement(const TriangleMesh& source, const std::vector<Vec3>& source_normals,
                                            const MeshTopology& source_topology, const TriangleMesh& target,

@@ -17,22 +17,20 @@ constexpr double kNeighbourhoodRadius = 0.03;  // x diameter: above a refined ma
 
 constexpr int kSignatureTimes = 16;
 
-// Heat-kernel signature of basis row v at `times`, each scale divided by its trace so that
-// the constant function reads 1 (the basis is area-normalised: scales are comparable).
-std::vector<double> heat_signature(const PreprocessedShape& shape, int v, const std::vector<double>& times) {
-  const auto& basis = shape.spectral_basis();
-  const Eigen::VectorXf& values = shape.spectral_eigenvalues();
-  std::vector<double> signature(times.size(), 0.0);
+// Rows: times; columns: exp(-lambda_i t) / sum_i exp(-lambda_i t), so that a point's heat
+// kernel signature is this matrix times its squared basis row and the constant function
+// reads 1 at every time (the basis is area-normalised: times are comparable across shapes).
+Eigen::MatrixXd heat_weights(const Eigen::VectorXf& eigenvalues, const std::vector<double>& times) {
+  Eigen::MatrixXd weights(times.size(), eigenvalues.size());
   for (size_t j = 0; j < times.size(); ++j) {
-    double sum = 0, trace = 0;
-    for (int i = 0; i < values.size(); ++i) {
-      const double w = std::exp(-values(i) * times[j]);
-      sum += w * basis(v, i) * basis(v, i);
-      trace += w;
-    }
-    signature[j] = sum / trace;
+    weights.row(j) = (-eigenvalues.cast<double>() * times[j]).array().exp().matrix().transpose();
+    weights.row(j) /= weights.row(j).sum();
   }
-  return signature;
+  return weights;
+}
+
+Eigen::VectorXd heat_signature(const PreprocessedShape& shape, const Eigen::MatrixXd& weights, int v) {
+  return weights * shape.spectral_basis().row(v).cast<double>().array().square().matrix().transpose();
 }
 
 }  // namespace
@@ -45,10 +43,13 @@ double heat_signature_disagreement(const PreprocessedShape& source, const Prepro
   std::vector<double> times(kSignatureTimes);
   for (int j = 0; j < kSignatureTimes; ++j)
     times[j] = t_min * std::pow(t_max / t_min, j / static_cast<double>(kSignatureTimes - 1));
+  const Eigen::MatrixXd source_weights = heat_weights(values, times);
+  const Eigen::MatrixXd target_weights = heat_weights(target.spectral_eigenvalues(), times);
   double total = 0;
   for (const int v : source.spectral_samples()) {
-    const auto hs = heat_signature(source, v, times), ht = heat_signature(target, forward[v], times);
-    for (int j = 0; j < kSignatureTimes; ++j) total += std::abs(hs[j] - ht[j]) / (hs[j] + ht[j] + 1e-12);
+    const Eigen::VectorXd hs = heat_signature(source, source_weights, v);
+    const Eigen::VectorXd ht = heat_signature(target, target_weights, forward[v]);
+    total += ((hs - ht).array().abs() / (hs + ht).array().max(1e-12)).sum();
   }
   return total / (kSignatureTimes * std::max<size_t>(1, source.spectral_samples().size()));
 }

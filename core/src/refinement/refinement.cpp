@@ -64,6 +64,7 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
   }
   result.chosen = choose_dense_candidate(result.candidates, settings.orientation_margin, result.why);
   SpectralMap& winner = maps[result.chosen];
+  // The candidates' evidence describes their maps before the polish: it decided the choice.
   zoomout_polish(source_side, target_side, options, winner, control);
   result.candidates[result.chosen].forward = winner.image;
   result.dense.forward = std::move(winner.image);

@@ -80,14 +80,24 @@ std::vector<int> starts_from_samples(const MeshTopology& topology, int vertex_co
 // One ZoomOut step on every vertex at the rows' basis size: C refitted to the current map,
 // then each vertex's image moved by descent from where it is (O(V k), no all-pairs search:
 // the map is already close, so the nearest row lies near the current image).
-Eigen::MatrixXf refit_on_every_vertex(const RowMatrix& source_rows, const RowMatrix& target_rows,
-                                      const FunctionalMapFit& fit, int threads, const MeshTopology& target_topology,
-                                      SpectralMap& map) {
+// Leaves the new C in map.c and returns the pulled rows (source rows times C).
+RowMatrix refit_on_every_vertex(const RowMatrix& source_rows, const RowMatrix& target_rows,
+                                const FunctionalMapFit& fit, int threads, const MeshTopology& target_topology,
+                                SpectralMap& map) {
   const int k = static_cast<int>(source_rows.cols());
-  Eigen::MatrixXf c = fit_functional_map(source_rows, gather_rows(target_rows, map.image, k), fit);
+  map.c = fit_functional_map(source_rows, gather_rows(target_rows, map.image, k), fit);
+  RowMatrix pulled = source_rows * map.c;
   const std::vector<int> start = map.image;
-  recover_dense(source_rows * c, target_rows, target_topology, start, threads, map.image, map.residual);
-  return c;
+  recover_dense(pulled, target_rows, target_topology, start, threads, map.image, map.residual);
+  return pulled;
+}
+
+FunctionalMapFit fit_settings(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options) {
+  FunctionalMapFit fit;
+  fit.source_eigenvalues = source.eigenvalues;
+  fit.target_eigenvalues = target.eigenvalues;
+  fit.commutativity = options.commutativity;
+  return fit;
 }
 
 // The reverse map from the same C: each target vertex goes to the source vertex whose
@@ -123,10 +133,7 @@ SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
   const int threads = resolve_thread_count(options.threads);
   const std::vector<int>& source_samples = *source.samples;
   const std::vector<int>& target_samples = *target.samples;
-  FunctionalMapFit fit;
-  fit.source_eigenvalues = source.eigenvalues;
-  fit.target_eigenvalues = target.eigenvalues;
-  fit.commutativity = options.commutativity;
+  const FunctionalMapFit fit = fit_settings(source, target, options);
 
   // The first functional map from the starting pairs, then iterations on the samples:
   // map the source samples (nearest target samples in the spectral embedding), refit C
@@ -151,18 +158,19 @@ SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
   // Dense recovery at k_end, then `dense_iterations` refits of C on every vertex (the
   // samples fix C's low-frequency part; all vertices sharpen the last basis functions).
   SpectralMap result;
+  result.c = c;
   const RowMatrix source_rows = phi_s.leftCols(k_end);
   const RowMatrix target_rows = phi_t.leftCols(k_end);
-  recover_dense(source_rows * c, target_rows, *target.topology,
+  RowMatrix pulled = source_rows * c;  // source vertices in target coordinates
+  recover_dense(pulled, target_rows, *target.topology,
                 starts_from_samples(*source.topology, static_cast<int>(phi_s.rows()), source_samples, images),
                 threads, result.image, result.residual);
   for (int iteration = 0; iteration < options.dense_iterations; ++iteration) {
     control.check_cancelled();
-    c = refit_on_every_vertex(source_rows, target_rows, fit, threads, *target.topology, result);
+    pulled = refit_on_every_vertex(source_rows, target_rows, fit, threads, *target.topology, result);
   }
-  result.c = c;
   control.check_cancelled();
-  recover_reverse(source, target, source_rows * c, target_rows, threads, result);
+  recover_reverse(source, target, pulled, target_rows, threads, result);
   return result;
 }
 
@@ -174,20 +182,16 @@ void zoomout_polish(const SpectralSide& source, const SpectralSide& target, cons
   int k = static_cast<int>(map.c.rows());
   if (k >= k_end) return;
   const int threads = resolve_thread_count(options.threads);
-  FunctionalMapFit fit;
-  fit.source_eigenvalues = source.eigenvalues;
-  fit.target_eigenvalues = target.eigenvalues;
-  fit.commutativity = options.commutativity;
-  RowMatrix source_rows, target_rows;
+  const FunctionalMapFit fit = fit_settings(source, target, options);
+  RowMatrix target_rows, pulled;
   while (k < k_end) {
     control.check_cancelled();
     k = std::min(k + std::max(1, options.k_step), k_end);
-    source_rows = phi_s.leftCols(k);
     target_rows = phi_t.leftCols(k);
-    map.c = refit_on_every_vertex(source_rows, target_rows, fit, threads, *target.topology, map);
+    pulled = refit_on_every_vertex(phi_s.leftCols(k), target_rows, fit, threads, *target.topology, map);
   }
   control.check_cancelled();
-  recover_reverse(source, target, source_rows * map.c, target_rows, threads, map);
+  recover_reverse(source, target, pulled, target_rows, threads, map);
 }
 
 }  // namespace isocorr

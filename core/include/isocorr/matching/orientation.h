@@ -45,16 +45,10 @@ double dense_orientation_agreement(const TriangleMesh& source, const std::vector
 // Over a dense vertex map, at a scale above its per-vertex noise: around each of `centres`,
 // the map's differential fitted by least squares over the source vertices within `radius`
 // (Euclidean edge paths) in tangent-plane coordinates; the result is the fraction of
-// centres where its determinant is positive. A noisy but right map folds many single faces
+// centres where its determinant is positive (centres where the neighbourhood maps to a
+// point or a line are left out). A noisy but right map folds many single faces
 // (dense_orientation_agreement then reads 0.7-0.8 for right maps and mirrors alike on
 // FAUST 5k) while its neighbourhoods still keep their handedness.
-// The same per centre: +1 where the neighbourhood keeps handedness, -1 where the map
-// reverses it, 0 where the fit is degenerate (the neighbourhood mapped to a point or a line).
-std::vector<signed char> neighbourhood_handedness(const TriangleMesh& source, const std::vector<Vec3>& source_normals,
-                                                  const MeshTopology& source_topology, const TriangleMesh& target,
-                                                  const std::vector<Vec3>& target_normals,
-                                                  const std::vector<int>& target_of, const std::vector<int>& centres,
-                                                  double radius, int threads);
 double neighbourhood_orientation_agreement(const TriangleMesh& source, const std::vector<Vec3>& source_normals,
                                            const MeshTopology& source_topology, const TriangleMesh& target,
                                            const std::vector<Vec3>& target_normals,
