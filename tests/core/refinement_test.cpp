@@ -1,12 +1,17 @@
 // Spectral refinement and the choice by dense evidence on shapes with known answers.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
+
+#include <Eigen/Geometry>
 
 #include "isocorr/mesh/procedural_meshes.h"
 #include "isocorr/refinement/dense_choice.h"
 #include "isocorr/refinement/refinement.h"
+#include "isocorr/refinement/rigidity_polish.h"
 #include "isocorr/refinement/zoomout.h"
+#include "isocorr/util/kd_tree.h"
 
 namespace isocorr {
 namespace {
@@ -187,6 +192,75 @@ TEST(ZoomOut, PolishGrowsTheBasisAndKeepsTheMapRight) {
   std::vector<int> inverse(copy.permutation.size());
   for (size_t v = 0; v < inverse.size(); ++v) inverse[copy.permutation[v]] = static_cast<int>(v);
   EXPECT_GE(exact_and_near(map.reverse_image, inverse, source->geodesics().topology()).second, 0.999);
+}
+
+// A map of a rotated, scaled copy with every image moved to a random neighbour (the
+// nearest-neighbour noise of a spectral map) is made rigid again: every vertex comes back
+// to its true image, both ways.
+TEST(RigidityPolish, RemovesPerVertexNoiseFromAMapOfARigidCopy) {
+  const TriangleMesh blob = limbed_blob(4);
+  const RenumberedCopy copy = rotated_scaled_renumbered(blob, 1.7, 5);
+  const auto source = PreprocessedShape::build(blob, spectral_options());
+  const auto target = PreprocessedShape::build(copy.mesh, spectral_options());
+  std::vector<int> inverse(copy.permutation.size());
+  for (size_t v = 0; v < inverse.size(); ++v) inverse[copy.permutation[v]] = static_cast<int>(v);
+  std::mt19937 random(11);
+  auto random_neighbour = [&](const MeshTopology& topology, int v) {
+    const int count = static_cast<int>(topology.neighbours_end(v) - topology.neighbours_begin(v));
+    return topology.neighbours_begin(v)[std::uniform_int_distribution<int>(0, count - 1)(random)];
+  };
+  SpectralMap map;
+  for (int v = 0; v < blob.num_vertices(); ++v)
+    map.image.push_back(random_neighbour(target->geodesics().topology(), copy.permutation[v]));
+  for (int w = 0; w < copy.mesh.num_vertices(); ++w)
+    map.reverse_image.push_back(random_neighbour(source->geodesics().topology(), inverse[w]));
+  ASSERT_LT(exact_and_near(map.image, copy.permutation, target->geodesics().topology()).first, 0.01);
+
+  RigidityOptions options;
+  options.threads = 2;
+  rigidity_polish(*source, *target, options, map);
+  EXPECT_GE(exact_and_near(map.image, copy.permutation, target->geodesics().topology()).first, 0.99);
+  EXPECT_GE(exact_and_near(map.reverse_image, inverse, source->geodesics().topology()).first, 0.99);
+  ASSERT_EQ(map.residual.size(), map.image.size());
+  ASSERT_EQ(map.reverse_residual.size(), map.reverse_image.size());
+  EXPECT_LT(*std::max_element(map.residual.begin(), map.residual.end()), 0.01);
+}
+
+// A map that slides the surface smoothly (every image taken from a point turned about an
+// axis through the body by an angle growing from 0 to 10 degrees along the axis: a twist,
+// which stretches some rings and squeezes others) is pulled back most of the way.
+TEST(RigidityPolish, PullsBackASmoothTwist) {
+  const TriangleMesh blob = limbed_blob(4);
+  const RenumberedCopy copy = rotated_scaled_renumbered(blob, 1.0, 7);
+  const auto source = PreprocessedShape::build(blob, spectral_options());
+  const auto target = PreprocessedShape::build(copy.mesh, spectral_options());
+  std::vector<Eigen::Vector3d> points(blob.vertices.begin(), blob.vertices.end());
+  std::vector<int> ids(points.size());
+  for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<int>(i);
+  const KdTree tree(points, ids);
+  const Eigen::Vector3d axis = Eigen::Vector3d(0.3, 1, 0.2).normalized();
+  double low = 1e9, high = -1e9;
+  for (const auto& p : points) low = std::min(low, p.dot(axis)), high = std::max(high, p.dot(axis));
+  auto twisted = [&](const Eigen::Vector3d& p) {
+    const double angle = 10 * M_PI / 180 * (p.dot(axis) - low) / (high - low);
+    return Eigen::AngleAxisd(angle, axis) * p;
+  };
+  SpectralMap map;
+  for (int v = 0; v < blob.num_vertices(); ++v) map.image.push_back(copy.permutation[tree.nearest(twisted(points[v]))]);
+  std::vector<int> inverse(copy.permutation.size());
+  for (size_t v = 0; v < inverse.size(); ++v) inverse[copy.permutation[v]] = static_cast<int>(v);
+  map.reverse_image = inverse;
+  // Mean distance on the source between a vertex and the preimage of its image.
+  auto mean_error = [&](const std::vector<int>& image) {
+    double sum = 0;
+    for (int v = 0; v < blob.num_vertices(); ++v) sum += (points[inverse[image[v]]] - points[v]).norm();
+    return sum / blob.num_vertices();
+  };
+  const double before = mean_error(map.image);
+  RigidityOptions options;
+  options.threads = 2;
+  rigidity_polish(*source, *target, options, map);
+  EXPECT_LT(mean_error(map.image), 0.5 * before);
 }
 
 }  // namespace

@@ -64,8 +64,11 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
   }
   result.chosen = choose_dense_candidate(result.candidates, settings.orientation_margin, result.why);
   SpectralMap& winner = maps[result.chosen];
-  // The candidates' evidence describes their maps before the polish: it decided the choice.
+  // The candidates' evidence describes their maps before the polishes: it decided the choice.
   zoomout_polish(source_side, target_side, options, winner, control);
+  RigidityOptions rigidity = settings.rigidity;
+  rigidity.threads = settings.threads;
+  rigidity_polish(source, target, rigidity, winner, control);
   result.candidates[result.chosen].forward = winner.image;
   result.dense.forward = std::move(winner.image);
   result.dense.forward_diso = std::move(winner.residual);

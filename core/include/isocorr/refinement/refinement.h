@@ -13,7 +13,8 @@
 namespace isocorr {
 
 struct RefinedMatch {
-  DenseMap dense;  // the winner, clean numbering; confidence is the spectral residual
+  DenseMap dense;  // the winner, clean numbering; confidence is the last stage's residual
+                   // (rigidity_polish.h, or the spectral residual when it is off)
   std::vector<DenseCandidate> candidates;
   int chosen = 0;  // index into candidates
   std::string why;
