@@ -66,6 +66,8 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
   SpectralMap& winner = maps[result.chosen];
   // The candidates' evidence describes their maps before the polishes: it decided the choice.
   zoomout_polish(source_side, target_side, options, winner, control);
+  // Before the rigidity polish, which would spread a misplaced region into its surroundings.
+  if (settings.outlier_repair) result.repair = repair_outliers(source, target, winner.image, settings.threads, control);
   RigidityOptions rigidity = settings.rigidity;
   rigidity.threads = settings.threads;
   rigidity_polish(source, target, rigidity, winner, control);

@@ -8,6 +8,7 @@
 
 #include "isocorr/matching/dense_map.h"
 #include "isocorr/refinement/dense_choice.h"
+#include "isocorr/refinement/outlier_repair.h"
 #include "isocorr/settings/match_settings.h"
 
 namespace isocorr {
@@ -18,6 +19,7 @@ struct RefinedMatch {
   std::vector<DenseCandidate> candidates;
   int chosen = 0;  // index into candidates
   std::string why;
+  OutlierRepair repair;  // what the outlier repair of the winner did (settings.outlier_repair)
 };
 
 // `ranked`: tracked-map indices, best first by the sparse choice rule. The first
