@@ -1,6 +1,6 @@
 // The refinement stage after tracking: the best few distinct tracked maps are refined into
-// dense maps (ZoomOut from their sample pairs), measured by dense evidence, and the best
-// refined map is the result.
+// dense maps (ZoomOut from their sample pairs, then outlier repair and the rigidity
+// polish), measured by dense evidence, and the best refined map is the result.
 #pragma once
 
 #include <string>

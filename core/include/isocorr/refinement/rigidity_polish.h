@@ -1,4 +1,4 @@
-// The last refinement of the chosen map: nearly isometric shapes deform locally rigidly.
+// The last stage of every refined map: nearly isometric shapes deform locally rigidly.
 //
 // A spectral map is fitted in a truncated basis; on shapes that are only nearly isometric
 // (real bodies in two poses) its fixpoint slides the surface by about a percent of the

@@ -60,8 +60,8 @@ struct MatchSettings {
   // covers the true map and its two sparse look-alikes (the mirror and the turned body).
   int refine_candidates = 3;
   ZoomOutOptions zoomout;
-  bool outlier_repair = true;       // the chosen map's misplaced regions searched again (outlier_repair.h)
-  RigidityOptions rigidity;         // the chosen map's last stage (rigidity_polish.h)
+  bool outlier_repair = true;       // each refined map's misplaced regions searched again (outlier_repair.h)
+  RigidityOptions rigidity;         // each refined map's last stage (rigidity_polish.h)
   int dense_choice_sources = 16;    // fast-marching fields per candidate for its dense distortion
   int threads = 0;                  // 0 = all cores; results do not depend on it
 
