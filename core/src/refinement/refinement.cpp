@@ -1,7 +1,9 @@
 #include "isocorr/refinement/refinement.h"
 
+#include <algorithm>
 #include <unordered_map>
 
+#include "isocorr/matching/orientation.h"
 #include "isocorr/util/error.h"
 #include "isocorr/util/parallel.h"
 
@@ -60,18 +62,28 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
     rigidity_polish(source, target, rigidity, map, control);
   };
   std::vector<SpectralMap> maps;
-  std::vector<OutlierRepair> repairs;
+  std::vector<OutlierRepair> repairs(picked.size());
   for (const int index : picked) {
     std::vector<std::pair<int, int>> start;
     for (const SamplePair& p : tracked[index].pairs)
       start.emplace_back(source.sample_vertex(p.source_sample), image_vertex(target, p));
     maps.push_back(zoomout(source_side, target_side, start, options, control));
-    repairs.emplace_back();
-    finish(maps.back(), repairs.back());
+    control.check_cancelled();
+  }
+  // A mirror image stays one when finished (it reverses handedness everywhere), so only
+  // the candidates whose spectral map keeps handedness within the margin of the best are
+  // finished; the others keep their spectral maps and lose on orientation as before.
+  std::vector<double> handedness(maps.size());
+  for (size_t i = 0; i < maps.size(); ++i)
+    handedness[i] = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(), target.normals(),
+                                                maps[i].image);
+  const double best_handedness = maps.empty() ? 0 : *std::max_element(handedness.begin(), handedness.end());
+  for (size_t i = 0; i < maps.size(); ++i) {
+    if (handedness[i] >= best_handedness - settings.orientation_margin) finish(maps[i], repairs[i]);
     DenseCandidate candidate;
-    candidate.tracked_index = index;
-    candidate.forward = maps.back().image;
-    candidate.evidence = measure_dense_map(source, target, maps.back().image, maps.back().reverse_image,
+    candidate.tracked_index = picked[i];
+    candidate.forward = maps[i].image;
+    candidate.evidence = measure_dense_map(source, target, maps[i].image, maps[i].reverse_image,
                                            settings.dense_choice_sources, settings.threads);
     result.candidates.push_back(candidate);
     control.check_cancelled();

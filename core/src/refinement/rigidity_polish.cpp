@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>  // determinant
 #include <Eigen/SVD>
 #include <Eigen/SparseCholesky>
@@ -74,6 +75,25 @@ Eigen::Matrix3d best_rotation(const Eigen::Matrix3d& covariance) {
   return v * svd.matrixU().transpose();
 }
 
+// The same rotation, moved towards from the ring's previous one: the iteration of Müller et
+// al. 2016 ("A robust method to extract the rotational part of deformations") maximises
+// tr(R^T covariance^T) and, started from a nearby rotation, needs a few cheap steps where
+// an SVD per vertex would cost a third of the polish (52K vertices, 60 iterations).
+void update_rotation(const Eigen::Matrix3d& covariance, Eigen::Quaterniond& rotation) {
+  constexpr int kSteps = 3;
+  const Eigen::Matrix3d a = covariance.transpose();
+  for (int step = 0; step < kSteps; ++step) {
+    const Eigen::Matrix3d r = rotation.toRotationMatrix();
+    const Eigen::Vector3d omega = (r.col(0).cross(a.col(0)) + r.col(1).cross(a.col(1)) + r.col(2).cross(a.col(2))) /
+                                  (std::abs(r.col(0).dot(a.col(0)) + r.col(1).dot(a.col(1)) + r.col(2).dot(a.col(2))) +
+                                   1e-12);
+    const double angle = omega.norm();
+    if (angle < 1e-9) return;
+    rotation = Eigen::Quaterniond(Eigen::AngleAxisd(angle, omega / angle)) * rotation;
+    rotation.normalize();
+  }
+}
+
 // The vertex of `mesh` nearest to `point` in space, by descent over `topology` from `start`.
 int nearest_by_descent(const TriangleMesh& mesh, const MeshTopology& topology, const Vec3& point, int start,
                        float& squared_distance) {
@@ -99,9 +119,12 @@ void rigidity_polish(const PreprocessedShape& source, const PreprocessedShape& t
   const MeshTopology& to_topology = target.geodesics().topology();
   const std::vector<Vec3>& to_normals = target.normals();
 
-  Eigen::MatrixXd deformed(n, 3), fit_points(n, 3), rhs(n, 3);
+  using Points = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+  Points deformed(n, 3), fit_points(n, 3), rhs(n, 3);
   for (int v = 0; v < n; ++v) deformed.row(v) = to.vertices[map.image[v]].transpose();
-  std::vector<Eigen::Matrix3d> rotation(n);
+  std::vector<Eigen::Quaterniond> rotation(n);
+  std::vector<Eigen::Matrix3d> rotation_matrix(n);
+  bool first_iteration = true;
   std::vector<int>& image = map.image;
 
   for (const double weight : kFitWeights) {
@@ -123,7 +146,9 @@ void rigidity_polish(const PreprocessedShape& source, const PreprocessedShape& t
           const RingEdge& ring = rings.edges[e];
           covariance += ring.weight * ring.rest * (y - deformed.row(ring.to).transpose()).transpose();
         }
-        rotation[v] = best_rotation(covariance);
+        if (first_iteration) rotation[v] = Eigen::Quaterniond(best_rotation(covariance));
+        else update_rotation(covariance, rotation[v]);
+        rotation_matrix[v] = rotation[v].toRotationMatrix();
         float squared = 0;
         image[v] = nearest_by_descent(to, to_topology, y, image[v], squared);
         const Vec3& p = to.vertices[image[v]];
@@ -135,11 +160,12 @@ void rigidity_polish(const PreprocessedShape& source, const PreprocessedShape& t
         Vec3 b = lambda * mass(v) * fit_points.row(v).transpose();
         for (int e = rings.offsets[v]; e < rings.offsets[v + 1]; ++e) {
           const RingEdge& ring = rings.edges[e];
-          b += 0.5 * ring.weight * (rotation[v] + rotation[ring.to]) * ring.rest;
+          b += 0.5 * ring.weight * (rotation_matrix[v] + rotation_matrix[ring.to]) * ring.rest;
         }
         rhs.row(v) = b.transpose();
       });
       deformed = solver.solve(rhs);
+      first_iteration = false;
     }
   }
 
