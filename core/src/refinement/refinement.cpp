@@ -50,8 +50,9 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
   ZoomOutOptions options = settings.zoomout;
   options.threads = settings.threads;
   RefinedMatch result;
-  RigidityOptions rigidity = settings.rigidity;
-  rigidity.threads = settings.threads;
+  RigidityOptions rigidity_options = settings.rigidity;
+  rigidity_options.threads = settings.threads;
+  const RigidityPolish rigidity(source, target, rigidity_options);
   // Every candidate is finished before the choice, not only the winner: a right map that
   // converged less well (SCAPE 001 -> 004, 006: D_grd 0.016-0.02 against 0.010 typical)
   // lost to a turned body on heat signatures; finished, it wins (signature 0.0145 against
@@ -59,7 +60,7 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
   // misplaced region into its surroundings.
   auto finish = [&](SpectralMap& map, OutlierRepair& repair) {
     if (settings.outlier_repair) repair = repair_outliers(source, target, map.image, settings.threads, control);
-    rigidity_polish(source, target, rigidity, map, control);
+    rigidity.apply(map, control);
   };
   std::vector<SpectralMap> maps;
   std::vector<OutlierRepair> repairs(picked.size());

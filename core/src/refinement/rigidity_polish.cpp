@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>  // determinant
@@ -103,19 +104,54 @@ int nearest_by_descent(const TriangleMesh& mesh, const MeshTopology& topology, c
 
 }  // namespace
 
+struct RigidityPolish::System {
+  Rings rings;
+  Eigen::VectorXd mass;                 // scaled lumped mass
+  std::vector<double> lambdas;          // fit weight of each stage
+  std::vector<std::unique_ptr<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>>> solvers;  // L + lambda M
+};
+
+RigidityPolish::RigidityPolish(const PreprocessedShape& source, const PreprocessedShape& target,
+                               const RigidityOptions& options)
+    : source_(source), target_(target), options_(options) {
+  if (options.iterations <= 0) return;
+  auto system = std::make_unique<System>();
+  const double scale = std::sqrt(target.area() / source.area());  // source units to target units
+  system->rings = build_rings(source.mesh(), scale);
+  system->mass = lumped_mass(source.mesh()) * (scale * scale);
+  const double edge = source.mean_edge() * scale;
+  const int n = source.mesh().num_vertices();
+  for (const double weight : kFitWeights) {
+    const double lambda = weight / (edge * edge);
+    Eigen::SparseMatrix<double> matrix = system->rings.laplacian;
+    for (int v = 0; v < n; ++v) matrix.coeffRef(v, v) += lambda * system->mass(v);
+    auto solver = std::make_unique<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>>(matrix);
+    if (solver->info() != Eigen::Success) throw InputError("rigidity polish: the source's rigidity system is singular");
+    system->lambdas.push_back(lambda);
+    system->solvers.push_back(std::move(solver));
+  }
+  system_ = std::move(system);
+}
+
+RigidityPolish::~RigidityPolish() = default;
+
 void rigidity_polish(const PreprocessedShape& source, const PreprocessedShape& target, const RigidityOptions& options,
                      SpectralMap& map, const JobControl& control) {
-  if (options.iterations <= 0) return;
+  RigidityPolish(source, target, options).apply(map, control);
+}
+
+void RigidityPolish::apply(SpectralMap& map, const JobControl& control) const {
+  if (!system_) return;
+  const PreprocessedShape& source = source_;
+  const PreprocessedShape& target = target_;
   const TriangleMesh& from = source.mesh();
   const TriangleMesh& to = target.mesh();
   const int n = from.num_vertices();
   if (static_cast<int>(map.image.size()) != n || static_cast<int>(map.reverse_image.size()) != to.num_vertices())
     throw std::logic_error("rigidity_polish: the map does not fit the shapes");
-  const int threads = resolve_thread_count(options.threads);
-  const double scale = std::sqrt(target.area() / source.area());
-  const Rings rings = build_rings(from, scale);
-  const Eigen::VectorXd mass = lumped_mass(from) * (scale * scale);
-  const double edge = source.mean_edge() * scale;
+  const int threads = resolve_thread_count(options_.threads);
+  const Rings& rings = system_->rings;
+  const Eigen::VectorXd& mass = system_->mass;
   const MeshTopology& to_topology = target.geodesics().topology();
   const std::vector<Vec3>& to_normals = target.normals();
 
@@ -127,13 +163,10 @@ void rigidity_polish(const PreprocessedShape& source, const PreprocessedShape& t
   bool first_iteration = true;
   std::vector<int>& image = map.image;
 
-  for (const double weight : kFitWeights) {
-    const double lambda = weight / (edge * edge);
-    Eigen::SparseMatrix<double> system = rings.laplacian;
-    for (int v = 0; v < n; ++v) system.coeffRef(v, v) += lambda * mass(v);
-    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(system);
-    if (solver.info() != Eigen::Success) throw InputError("rigidity polish: the source's rigidity system is singular");
-    for (int iteration = 0; iteration < options.iterations; ++iteration) {
+  for (size_t stage = 0; stage < system_->lambdas.size(); ++stage) {
+    const double lambda = system_->lambdas[stage];
+    const auto& solver = *system_->solvers[stage];
+    for (int iteration = 0; iteration < options_.iterations; ++iteration) {
       control.check_cancelled();
       // Local step: each ring's best rotation; and each vertex's fit point, the tangent
       // plane of the target at the nearest vertex (a plane, not the vertex, so that the

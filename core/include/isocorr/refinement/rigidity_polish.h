@@ -17,6 +17,8 @@
 // nearest. Extrinsic, but only through local shape: a pose change does not affect it.
 #pragma once
 
+#include <memory>
+
 #include "isocorr/refinement/zoomout.h"
 #include "isocorr/shape/preprocessed_shape.h"
 
@@ -30,10 +32,28 @@ struct RigidityOptions {
   int threads = 0;
 };
 
-// Replaces map.image / residual and map.reverse_image / reverse_residual (clean
-// numbering) by the polished maps; the residual becomes the distance between a vertex's
-// deformed position and its image, divided by the target's diameter. map.c is kept.
-// Deterministic; `control` is checked between iterations.
+// The polish for one pair of shapes: the source's rings and the three factored systems
+// depend on the pair only, so a match that polishes several candidates builds them once.
+class RigidityPolish {
+ public:
+  RigidityPolish(const PreprocessedShape& source, const PreprocessedShape& target, const RigidityOptions& options);
+  ~RigidityPolish();
+
+  // Replaces map.image / residual and map.reverse_image / reverse_residual (clean
+  // numbering) by the polished maps; the residual becomes the distance between a vertex's
+  // deformed position and its image, divided by the target's diameter. map.c is kept.
+  // Deterministic; `control` is checked between iterations.
+  void apply(SpectralMap& map, const JobControl& control = {}) const;
+
+ private:
+  struct System;
+  const PreprocessedShape& source_;
+  const PreprocessedShape& target_;
+  RigidityOptions options_;
+  std::unique_ptr<const System> system_;  // null when options.iterations is 0
+};
+
+// One polish: RigidityPolish(source, target, options).apply(map, control).
 void rigidity_polish(const PreprocessedShape& source, const PreprocessedShape& target, const RigidityOptions& options,
                      SpectralMap& map, const JobControl& control = {});
 
