@@ -133,24 +133,27 @@ TEST(DenseChoice, PrefersTheTrueMapToItsMirrorImage) {
   EXPECT_GE(near, 0.95);
 }
 
-TEST(DenseChoice, ATurnedMapLosesOnHeatSignatures) {
+TEST(DenseChoice, ATurnedMapLosesOnCurvature) {
   std::vector<DenseCandidate> candidates(3);
-  // Turned: keeps handedness and is as isometric between coarse samples, but its points
-  // land where the surface looks different.
+  // Turned: keeps handedness, is as isometric between coarse samples and nearly as close
+  // in heat signatures, but its points land where the surface is shaped differently.
   candidates[0].evidence.orientation = 0.95;
   candidates[0].evidence.distortion = 0.009;
-  candidates[0].evidence.signature_disagreement = 0.014;
+  candidates[0].evidence.signature_disagreement = 0.0105;
+  candidates[0].evidence.curvature_disagreement = 0.19;
   candidates[1].evidence.orientation = 0.97;  // true
   candidates[1].evidence.distortion = 0.010;
-  candidates[1].evidence.signature_disagreement = 0.008;
+  candidates[1].evidence.signature_disagreement = 0.0107;
+  candidates[1].evidence.curvature_disagreement = 0.14;
   candidates[2].evidence.orientation = 0.05;  // mirror: as isometric, as similar, wrong hand
   candidates[2].evidence.distortion = 0.010;
-  candidates[2].evidence.signature_disagreement = 0.008;
+  candidates[2].evidence.signature_disagreement = 0.0107;
+  candidates[2].evidence.curvature_disagreement = 0.14;
   std::string why;
   EXPECT_EQ(choose_dense_candidate(candidates, 0.1, why), 1);
   EXPECT_TRUE(candidates[2].mirrored);
   EXPECT_FALSE(candidates[0].mirrored);
-  EXPECT_NE(why.find("signature"), std::string::npos);
+  EXPECT_NE(why.find("curvature"), std::string::npos);
 }
 
 // On an asymmetric shape, the true map of a rotated, scaled, renumbered copy has (up to

@@ -38,6 +38,7 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
                          {"orientation", c.evidence.orientation},
                          {"neighbourhood_orientation", c.evidence.neighbourhood_orientation},
                          {"signature_disagreement", c.evidence.signature_disagreement},
+                         {"curvature_disagreement", c.evidence.curvature_disagreement},
                          {"distortion", c.evidence.distortion},
                          {"distortion_max", c.evidence.distortion_max},
                          {"round_trip", c.evidence.round_trip},

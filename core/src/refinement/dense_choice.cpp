@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "isocorr/matching/orientation.h"
+#include "isocorr/shape/mean_curvature.h"
 #include "isocorr/util/parallel.h"
 
 namespace isocorr {
@@ -54,6 +55,13 @@ double heat_signature_disagreement(const PreprocessedShape& source, const Prepro
   return total / (kSignatureTimes * std::max<size_t>(1, source.spectral_samples().size()));
 }
 
+double curvature_disagreement(const PreprocessedShape& source, const PreprocessedShape& target,
+                              const std::vector<int>& forward) {
+  std::vector<std::pair<int, int>> pairs;
+  for (const int v : source.spectral_samples()) pairs.emplace_back(v, forward[v]);
+  return curvature_disagreement(source.smoothed_curvature(), target.smoothed_curvature(), pairs);
+}
+
 DenseEvidence measure_dense_map(const PreprocessedShape& source, const PreprocessedShape& target,
                                 const std::vector<int>& forward, const std::vector<int>& reverse,
                                 int distortion_sources, int threads) {
@@ -64,6 +72,7 @@ DenseEvidence measure_dense_map(const PreprocessedShape& source, const Preproces
       source.mesh(), source.normals(), source.geodesics().topology(), target.mesh(), target.normals(), forward,
       source.spectral_samples(), kNeighbourhoodRadius * source.diameter(), threads);
   evidence.signature_disagreement = heat_signature_disagreement(source, target, forward);
+  evidence.curvature_disagreement = curvature_disagreement(source, target, forward);
 
   const int targets = std::min(kDistortionTargets, source.num_samples());
   const int sources = std::min(distortion_sources, targets);
@@ -100,13 +109,13 @@ int choose_dense_candidate(std::vector<DenseCandidate>& candidates, double orien
   int winner = -1;
   for (int i = 0; i < static_cast<int>(candidates.size()); ++i) {
     DenseCandidate& c = candidates[i];
-    c.score = c.evidence.signature_disagreement;
+    c.score = c.evidence.curvature_disagreement;
     c.mirrored = c.evidence.orientation < best_orientation - orientation_margin;
     if (!c.mirrored && (winner < 0 || c.score < candidates[winner].score)) winner = i;
   }
   char text[200];
   std::snprintf(text, sizeof text,
-                "least heat-signature disagreement (%.4f) among the %d of %d refined candidates whose orientation "
+                "least curvature disagreement (%.4f) among the %d of %d refined candidates whose orientation "
                 "is within %.2f of the best (%.3f)",
                 candidates[winner].score,
                 static_cast<int>(std::count_if(candidates.begin(), candidates.end(),

@@ -7,6 +7,7 @@
 #include "isocorr/sampling/salient_sampling.h"
 #include "isocorr/sampling/vertex_spreading.h"
 #include "isocorr/settings/settings_schema.h"
+#include "isocorr/shape/mean_curvature.h"
 #include "isocorr/spectral/reduced_laplace_basis.h"
 #include "isocorr/util/parallel.h"
 
@@ -40,12 +41,17 @@ std::shared_ptr<const PreprocessedShape> PreprocessedShape::build(const Triangle
   // work below instead of after it (michael0, 52K vertices: 13.6 s -> see the commit).
   // It checks `control` too: a cancelled job must not wait for it (the future's
   // destructor joins it when the geodesic work below throws Cancelled).
-  auto compute_basis = [&mesh, &options, &control] {
+  // The smoothed curvature, also a few sparse solves, goes with it.
+  auto compute_basis = [&mesh, &options, &control, &shape] {
     LaplaceBasisOptions solver;
     solver.control = &control;
-    return options.spectral_cells > 0
-               ? compute_reduced_laplace_basis(mesh, options.spectral_basis, options.spectral_cells, solver)
-               : compute_laplace_basis(mesh, options.spectral_basis, solver);
+    LaplaceBasis basis =
+        options.spectral_cells > 0
+            ? compute_reduced_laplace_basis(mesh, options.spectral_basis, options.spectral_cells, solver)
+            : compute_laplace_basis(mesh, options.spectral_basis, solver);
+    control.check_cancelled();
+    shape->smoothed_curvature_ = smoothed_mean_curvature(mesh, shape->normals_);
+    return basis;
   };
   std::future<LaplaceBasis> basis;
   if (options.spectral_basis > 0)
@@ -109,7 +115,7 @@ int PreprocessedShape::num_level0_samples() const {
 
 size_t PreprocessedShape::memory_bytes() const {
   const size_t n = mesh().num_vertices();
-  return fields_.size() * sizeof(float) + spectral_basis_.size() * sizeof(float) +
+  return fields_.size() * sizeof(float) + (spectral_basis_.size() + smoothed_curvature_.size()) * sizeof(float) +
          spectral_samples_.size() * sizeof(int) + n * (sizeof(Vec3) * 2 + sizeof(float) + 3 * sizeof(int)) +
          mesh().faces.size() * sizeof(Face) * 3;
 }

@@ -74,6 +74,9 @@ class PreprocessedShape {
   const std::vector<int>& spectral_samples() const { return spectral_samples_; }
   // Its eigenvalues times the area (scale-invariant, like the basis), ascending.
   const Eigen::VectorXf& spectral_eigenvalues() const { return spectral_eigenvalues_; }
+  // Mean curvature smoothed at kCurvatureScales (mean_curvature.h), V x scales; empty
+  // when spectral_basis = 0 (only the dense choice reads it).
+  const Eigen::MatrixXf& smoothed_curvature() const { return smoothed_curvature_; }
 
   size_t memory_bytes() const;
 
@@ -92,6 +95,7 @@ class PreprocessedShape {
   SpectralBasis spectral_basis_;
   std::vector<int> spectral_samples_;
   Eigen::VectorXf spectral_eigenvalues_;
+  Eigen::MatrixXf smoothed_curvature_;
 };
 
 }  // namespace isocorr
