@@ -108,14 +108,18 @@ TEST(DenseChoice, PrefersTheTrueMapToItsMirrorImage) {
         best = j;
     return best;
   };
-  std::vector<TrackedMap> tracked(2);  // [0] the mirror, ranked first; [1] the true map
+  // [0] the mirror, ranked first; [1] the true map; [2] the true map again, with a quarter
+  // of its pairs credited to another target sample: distinct as tracked maps, the same
+  // once refined, so refined and reported once.
+  std::vector<TrackedMap> tracked(3);
   for (int i = 0; i < source->num_samples(); ++i) {
     const int v = source->sample_vertex(i);
-    for (int which = 0; which < 2; ++which) {
+    for (int which = 0; which < 3; ++which) {
       SamplePair pair;
       pair.source_sample = i;
       pair.target_vertex = copy.permutation[which == 0 ? mirror_of(v) : v];
       pair.target_sample = nearest_target_sample(pair.target_vertex);
+      if (which == 2 && i % 4 == 0) pair.target_sample = (pair.target_sample + 1) % target->num_samples();
       tracked[which].pairs.push_back(pair);
     }
   }
@@ -123,7 +127,7 @@ TEST(DenseChoice, PrefersTheTrueMapToItsMirrorImage) {
   settings.zoomout.k_start = 10;
   settings.zoomout.k_end = 60;
   settings.threads = 2;
-  const RefinedMatch refined = refine_and_choose(*source, *target, tracked, {0, 1}, settings, {});
+  const RefinedMatch refined = refine_and_choose(*source, *target, tracked, {0, 1, 2}, settings, {});
   ASSERT_EQ(refined.candidates.size(), 2u);
   EXPECT_TRUE(refined.candidates[0].mirrored);
   EXPECT_LT(refined.candidates[0].evidence.orientation, 0.1);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <unordered_map>
+#include <utility>
 
 #include "isocorr/matching/orientation.h"
 #include "isocorr/util/error.h"
@@ -14,6 +15,8 @@ namespace {
 // same target sample end in the same place: refining both would measure one map twice.
 constexpr double kSameMapShare = 0.8;
 
+constexpr size_t kFinishedCandidates = 3;
+
 bool same_map(const TrackedMap& a, const TrackedMap& b) {
   std::unordered_map<int, int> image_of;
   for (const SamplePair& p : a.pairs) image_of[p.source_sample] = p.target_sample;
@@ -25,6 +28,20 @@ bool same_map(const TrackedMap& a, const TrackedMap& b) {
     same += it->second == p.target_sample;
   }
   return common > 0 && same >= kSameMapShare * common;
+}
+
+// Two refined maps that send this share of the source's spectral samples to the same
+// target vertex or one of its neighbours are one map: ZoomOut from two distinct tracked
+// starts often ends in the same place.
+bool same_dense_map(const std::vector<int>& a, const std::vector<int>& b, const std::vector<int>& samples,
+                    const MeshTopology& target_topology) {
+  int same = 0;
+  for (const int v : samples) {
+    const int x = a[v], y = b[v];
+    same += x == y || std::find(target_topology.neighbours_begin(x), target_topology.neighbours_end(x), y) !=
+                          target_topology.neighbours_end(x);
+  }
+  return !samples.empty() && same >= kSameMapShare * samples.size();
 }
 
 }  // namespace
@@ -63,13 +80,20 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
     rigidity.apply(map, control);
   };
   std::vector<SpectralMap> maps;
-  std::vector<OutlierRepair> repairs(picked.size());
+  std::vector<int> refined;  // the tracked map of each of `maps`
   for (const int index : picked) {
     std::vector<std::pair<int, int>> start;
     for (const SamplePair& p : tracked[index].pairs)
       start.emplace_back(source.sample_vertex(p.source_sample), image_vertex(target, p));
-    maps.push_back(zoomout(source_side, target_side, start, options, control));
+    SpectralMap map = zoomout(source_side, target_side, start, options, control);
     control.check_cancelled();
+    // A map refined twice would be finished and measured twice, for nothing.
+    const bool seen = std::any_of(maps.begin(), maps.end(), [&](const SpectralMap& other) {
+      return same_dense_map(other.image, map.image, source.spectral_samples(), target.geodesics().topology());
+    });
+    if (seen) continue;
+    maps.push_back(std::move(map));
+    refined.push_back(index);
   }
   // A mirror image stays one when finished (it reverses handedness everywhere), so only
   // the candidates whose spectral map keeps handedness within the margin of the best are
@@ -79,10 +103,23 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
     handedness[i] = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(), target.normals(),
                                                 maps[i].image);
   const double best_handedness = maps.empty() ? 0 : *std::max_element(handedness.begin(), handedness.end());
+  // Finishing costs as much as the spectral refinement; only the kFinishedCandidates
+  // eligible maps whose raw curvature agrees best are finished (a turned body's
+  // disagreement is 20-30% above the right map's before finishing as after). Another
+  // eligible map competes unfinished: finishing lowers the disagreement, so it trails.
+  std::vector<std::pair<double, size_t>> by_curvature;
+  for (size_t i = 0; i < maps.size(); ++i)
+    if (handedness[i] >= best_handedness - settings.orientation_margin)
+      by_curvature.emplace_back(curvature_disagreement(source, target, maps[i].image), i);
+  std::sort(by_curvature.begin(), by_curvature.end());
+  if (by_curvature.size() > kFinishedCandidates) by_curvature.resize(kFinishedCandidates);
+  std::vector<bool> finished(maps.size(), false);
+  std::vector<OutlierRepair> repairs(maps.size());
+  for (const auto& [curvature, i] : by_curvature) finished[i] = true;
   for (size_t i = 0; i < maps.size(); ++i) {
-    if (handedness[i] >= best_handedness - settings.orientation_margin) finish(maps[i], repairs[i]);
+    if (finished[i]) finish(maps[i], repairs[i]);
     DenseCandidate candidate;
-    candidate.tracked_index = picked[i];
+    candidate.tracked_index = refined[i];
     candidate.forward = maps[i].image;
     candidate.evidence = measure_dense_map(source, target, maps[i].image, maps[i].reverse_image,
                                            settings.dense_choice_sources, settings.threads);
