@@ -160,6 +160,22 @@ TEST(DenseChoice, ATurnedMapLosesOnCurvature) {
   EXPECT_NE(why.find("curvature"), std::string::npos);
 }
 
+// A right map with a few misplaced regions keeps fewer faces' handedness than a clean
+// turned body; it is still no mirror, and it wins on curvature. Only when no candidate
+// keeps most faces does the relative margin decide.
+TEST(DenseChoice, ARightMapWithLowerHandednessIsNoMirror) {
+  std::vector<DenseCandidate> candidates(2);
+  candidates[0].evidence.orientation = 0.82;  // turned
+  candidates[0].evidence.curvature_disagreement = 0.13;
+  candidates[1].evidence.orientation = 0.61;  // right, partly misplaced
+  candidates[1].evidence.curvature_disagreement = 0.06;
+  std::string why;
+  EXPECT_EQ(choose_dense_candidate(candidates, 0.1, why), 1);
+  EXPECT_FALSE(candidates[1].mirrored);
+  EXPECT_DOUBLE_EQ(mirror_threshold(0.82, 0.1), kMirrorOrientation);
+  EXPECT_DOUBLE_EQ(mirror_threshold(0.45, 0.1), 0.35);
+}
+
 // On an asymmetric shape, the true map of a rotated, scaled, renumbered copy has (up to
 // the copy's float rounding) the same signatures at both ends; a map that sends each point
 // to where another point goes does not.

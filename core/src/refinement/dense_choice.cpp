@@ -103,24 +103,29 @@ DenseEvidence measure_dense_map(const PreprocessedShape& source, const Preproces
   return evidence;
 }
 
+double mirror_threshold(double best_orientation, double orientation_margin) {
+  return std::min(kMirrorOrientation, best_orientation - orientation_margin);
+}
+
 int choose_dense_candidate(std::vector<DenseCandidate>& candidates, double orientation_margin, std::string& why) {
   double best_orientation = 0;
   for (const auto& c : candidates) best_orientation = std::max(best_orientation, c.evidence.orientation);
+  const double threshold = mirror_threshold(best_orientation, orientation_margin);
   int winner = -1;
   for (int i = 0; i < static_cast<int>(candidates.size()); ++i) {
     DenseCandidate& c = candidates[i];
     c.score = c.evidence.curvature_disagreement;
-    c.mirrored = c.evidence.orientation < best_orientation - orientation_margin;
+    c.mirrored = c.evidence.orientation < threshold;
     if (!c.mirrored && (winner < 0 || c.score < candidates[winner].score)) winner = i;
   }
   char text[200];
   std::snprintf(text, sizeof text,
-                "least curvature disagreement (%.4f) among the %d of %d refined candidates whose orientation "
-                "is within %.2f of the best (%.3f)",
+                "least curvature disagreement (%.4f) among the %d of %d refined candidates that keep the "
+                "handedness of at least %.3f of the faces (best %.3f)",
                 candidates[winner].score,
                 static_cast<int>(std::count_if(candidates.begin(), candidates.end(),
                                                [](const DenseCandidate& c) { return !c.mirrored; })),
-                static_cast<int>(candidates.size()), orientation_margin, best_orientation);
+                static_cast<int>(candidates.size()), threshold, best_orientation);
   why = text;
   return winner;
 }

@@ -53,13 +53,24 @@ struct DenseCandidate {
   int tracked_index = 0;  // which tracked map it was refined from
   DenseEvidence evidence;
   double score = 0;       // curvature_disagreement (lower wins)
-  bool mirrored = false;  // orientation too far below the best: not eligible
+  bool mirrored = false;  // orientation below mirror_threshold: not eligible
   std::vector<int> forward;  // its dense map (clean numbering; the files' in a MatchResult)
 };
 
-// Marks candidates whose orientation lies more than `orientation_margin` below the best as
-// mirrored, scores the rest by curvature disagreement, and returns the index of the winner
-// (least score among the eligible). `why` receives one sentence for the report.
+// A mirror image reverses the handedness of most faces; any map that keeps most is not one.
+// A margin below the best map's orientation is no test: a right map with a few misplaced
+// regions kept 0.61-0.78 where a turned body kept 0.82-0.91 (faust_reg6890 016 -> 019, SCAPE
+// 004 -> 013), and curvature tells those two apart.
+inline constexpr double kMirrorOrientation = 0.5;
+
+// The orientation below which a dense candidate counts as mirrored: kMirrorOrientation, or
+// `orientation_margin` below the best when even the best keeps less (inconsistently
+// oriented meshes: then only the relative test is left).
+double mirror_threshold(double best_orientation, double orientation_margin);
+
+// Marks candidates below mirror_threshold as mirrored, scores the rest by curvature
+// disagreement, and returns the index of the winner (least score among the eligible).
+// `why` receives one sentence for the report.
 int choose_dense_candidate(std::vector<DenseCandidate>& candidates, double orientation_margin, std::string& why);
 
 }  // namespace isocorr

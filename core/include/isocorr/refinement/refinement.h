@@ -25,9 +25,10 @@ struct RefinedMatch {
 // `ranked`: tracked-map indices, best first by the sparse choice rule. The first
 // `settings.refine_candidates` of them whose sample images differ (a tracked map that ends
 // where a better-ranked one did is skipped) are refined spectrally (a refined map that
-// ends where an earlier one did is dropped: same_dense_map in the source); of those that keep
-// handedness within the orientation margin, the three with the least curvature
-// disagreement are finished (outlier repair, rigidity polish) and compete.
+// ends where an earlier one did is dropped: same_dense_map in the source); of those within
+// the orientation margin of the best, the three with the least curvature disagreement are
+// finished (outlier repair, rigidity polish). All compete (dense_choice.h); a winner that
+// was not finished is finished then.
 RefinedMatch refine_and_choose(const PreprocessedShape& source, const PreprocessedShape& target,
                                const std::vector<TrackedMap>& tracked, const std::vector<int>& ranked,
                                const MatchSettings& settings, const JobControl& control);
