@@ -117,24 +117,23 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
   std::vector<bool> finished(maps.size(), false);
   std::vector<OutlierRepair> repairs(maps.size());
   for (const auto& [curvature, i] : by_curvature) finished[i] = true;
-  for (size_t i = 0; i < maps.size(); ++i) {
-    if (finished[i]) finish(maps[i], repairs[i]);
-    DenseCandidate candidate;
-    candidate.tracked_index = refined[i];
+  auto measure = [&](size_t i, DenseCandidate& candidate) {
     candidate.forward = maps[i].image;
     candidate.evidence = measure_dense_map(source, target, maps[i].image, maps[i].reverse_image,
                                            settings.dense_choice_sources, settings.threads);
-    result.candidates.push_back(candidate);
+  };
+  result.candidates.resize(maps.size());
+  for (size_t i = 0; i < maps.size(); ++i) {
+    if (finished[i]) finish(maps[i], repairs[i]);
+    result.candidates[i].tracked_index = refined[i];
+    measure(i, result.candidates[i]);
     control.check_cancelled();
   }
   result.chosen = choose_dense_candidate(result.candidates, settings.orientation_margin, result.why);
   SpectralMap& winner = maps[result.chosen];
   if (!finished[result.chosen]) {
     finish(winner, repairs[result.chosen]);
-    DenseCandidate& chosen = result.candidates[result.chosen];
-    chosen.forward = winner.image;
-    chosen.evidence = measure_dense_map(source, target, winner.image, winner.reverse_image,
-                                        settings.dense_choice_sources, settings.threads);
+    measure(result.chosen, result.candidates[result.chosen]);
   }
   result.repair = repairs[result.chosen];
   // The optional spectral polish of the winner starts from its spectral functional map and

@@ -42,7 +42,7 @@ std::shared_ptr<const PreprocessedShape> PreprocessedShape::build(const Triangle
   // It checks `control` too: a cancelled job must not wait for it (the future's
   // destructor joins it when the geodesic work below throws Cancelled).
   // The smoothed curvature, also a few sparse solves, goes with it.
-  auto compute_basis = [&mesh, &options, &control, &shape] {
+  auto compute_spectral = [&mesh, &options, &control, &shape] {
     LaplaceBasisOptions solver;
     solver.control = &control;
     LaplaceBasis basis =
@@ -55,7 +55,7 @@ std::shared_ptr<const PreprocessedShape> PreprocessedShape::build(const Triangle
   };
   std::future<LaplaceBasis> basis;
   if (options.spectral_basis > 0)
-    basis = std::async(threads > 1 ? std::launch::async : std::launch::deferred, compute_basis);
+    basis = std::async(threads > 1 ? std::launch::async : std::launch::deferred, compute_spectral);
   shape->saliency_ = compute_saliency(*shape->geodesics_, options.saliency, threads, control);
   control.check_cancelled();
 
