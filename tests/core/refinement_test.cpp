@@ -14,17 +14,12 @@
 #include "isocorr/refinement/rigidity_polish.h"
 #include "isocorr/refinement/zoomout.h"
 #include "isocorr/util/kd_tree.h"
+#include "spectral_test_shapes.h"
 
 namespace isocorr {
 namespace {
 
-PreprocessOptions spectral_options() {
-  PreprocessOptions options;
-  options.spectral_basis = 60;
-  options.spectral_samples = 800;
-  options.threads = 2;
-  return options;
-}
+using test_support::spectral_options;
 
 SpectralSide side_of(const PreprocessedShape& shape) {
   return {&shape.spectral_basis(), &shape.geodesics().topology(), &shape.spectral_samples(),
@@ -128,10 +123,13 @@ TEST(DenseChoice, PrefersTheTrueMapToItsMirrorImage) {
   settings.zoomout.k_end = 60;
   settings.threads = 2;
   const RefinedMatch refined = refine_and_choose(*source, *target, tracked, {0, 1, 2}, settings, {});
+  // The screen refines the mirror last; the true map's copy is dropped once refined.
   ASSERT_EQ(refined.candidates.size(), 2u);
-  EXPECT_TRUE(refined.candidates[0].mirrored);
-  EXPECT_LT(refined.candidates[0].evidence.orientation, 0.1);
-  EXPECT_GT(refined.candidates[1].evidence.orientation, 0.9);
+  EXPECT_EQ(refined.candidates[0].tracked_index, 1);
+  EXPECT_EQ(refined.candidates[1].tracked_index, 0);
+  EXPECT_TRUE(refined.candidates[1].mirrored);
+  EXPECT_LT(refined.candidates[1].evidence.orientation, 0.1);
+  EXPECT_GT(refined.candidates[0].evidence.orientation, 0.9);
   EXPECT_EQ(refined.candidates[refined.chosen].tracked_index, 1);
   const auto [exact, near] = exact_and_near(refined.dense.forward, copy.permutation, target->geodesics().topology());
   EXPECT_GE(near, 0.95);
@@ -174,6 +172,23 @@ TEST(DenseChoice, ARightMapWithLowerHandednessIsNoMirror) {
   EXPECT_FALSE(candidates[1].mirrored);
   EXPECT_DOUBLE_EQ(mirror_threshold(0.82, 0.1), kMirrorOrientation);
   EXPECT_DOUBLE_EQ(mirror_threshold(0.45, 0.1), 0.35);
+}
+
+// A raw spectral map is no match for a finished one (refinement.h): it competes only when
+// no finished candidate is eligible.
+TEST(DenseChoice, AnUnfinishedCandidateCompetesOnlyWhenNoFinishedOneIsEligible) {
+  std::vector<DenseCandidate> candidates(3);
+  candidates[0].evidence.orientation = 0.9;
+  candidates[0].evidence.curvature_disagreement = 0.13;
+  candidates[1].evidence.orientation = 0.75;  // a swapped limb, raw: lower curvature
+  candidates[1].evidence.curvature_disagreement = 0.12;
+  candidates[1].finished = false;
+  candidates[2].evidence.orientation = 0.1;  // a finished mirror
+  candidates[2].evidence.curvature_disagreement = 0.11;
+  std::string why;
+  EXPECT_EQ(choose_dense_candidate(candidates, 0.1, why), 0);
+  candidates[0].evidence.orientation = 0.2;
+  EXPECT_EQ(choose_dense_candidate(candidates, 0.1, why), 1);
 }
 
 // On an asymmetric shape, the true map of a rotated, scaled, renumbered copy has (up to

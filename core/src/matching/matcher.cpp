@@ -99,6 +99,7 @@ DenseMap match_complete(const PreprocessedShape& source, const PreprocessedShape
     control.report({"refine", total_levels, total_levels, 0.7});
     RefinedMatch refined = refine_and_choose(source, target, result.tracked, ranked, settings, control);
     dense = std::move(refined.dense);
+    result.screened = std::move(refined.screened);
     result.refined = std::move(refined.candidates);
     result.refined_chosen = refined.chosen;
     result.refined_why = std::move(refined.why);

@@ -43,8 +43,21 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
                          {"distortion_max", c.evidence.distortion_max},
                          {"round_trip", c.evidence.round_trip},
                          {"score", c.score},
-                         {"mirrored", c.mirrored}});
-    report["refined"] = {{"candidates", refined}, {"chosen", result.refined_chosen}, {"why", result.refined_why}};
+                         {"mirrored", c.mirrored},
+                         {"finished", c.finished}});
+    json screened = json::array();
+    for (const auto& s : result.screened) {
+      const bool went_on = std::any_of(result.refined.begin(), result.refined.end(),
+                                       [&](const DenseCandidate& c) { return c.tracked_index == s.tracked_index; });
+      screened.push_back({{"tracked", s.tracked_index},
+                          {"orientation", s.orientation},
+                          {"curvature_disagreement", s.curvature},
+                          {"refined", went_on}});
+    }
+    report["refined"] = {{"screened", screened},
+                         {"candidates", refined},
+                         {"chosen", result.refined_chosen},
+                         {"why", result.refined_why}};
   }
   report["final"] = {{"diso", result.diso}, {"diso_max", result.diso_max},
                      {"orientation", result.dense_orientation},

@@ -111,21 +111,29 @@ int choose_dense_candidate(std::vector<DenseCandidate>& candidates, double orien
   double best_orientation = 0;
   for (const auto& c : candidates) best_orientation = std::max(best_orientation, c.evidence.orientation);
   const double threshold = mirror_threshold(best_orientation, orientation_margin);
-  int winner = -1;
-  for (int i = 0; i < static_cast<int>(candidates.size()); ++i) {
-    DenseCandidate& c = candidates[i];
+  bool any_finished = false;
+  for (DenseCandidate& c : candidates) {
     c.score = c.evidence.curvature_disagreement;
     c.mirrored = c.evidence.orientation < threshold;
-    if (!c.mirrored && (winner < 0 || c.score < candidates[winner].score)) winner = i;
+    any_finished = any_finished || (!c.mirrored && c.finished);
+  }
+  int winner = -1;
+  for (int i = 0; i < static_cast<int>(candidates.size()); ++i) {
+    const DenseCandidate& c = candidates[i];
+    if (c.mirrored || (any_finished && !c.finished)) continue;
+    if (winner < 0 || c.score < candidates[winner].score) winner = i;
   }
   char text[200];
   std::snprintf(text, sizeof text,
                 "least curvature disagreement (%.4f) among the %d of %d refined candidates that keep the "
-                "handedness of at least %.3f of the faces (best %.3f)",
+                "handedness of at least %.3f of the faces (best %.3f)%s",
                 candidates[winner].score,
                 static_cast<int>(std::count_if(candidates.begin(), candidates.end(),
-                                               [](const DenseCandidate& c) { return !c.mirrored; })),
-                static_cast<int>(candidates.size()), threshold, best_orientation);
+                                               [&](const DenseCandidate& c) {
+                                                 return !c.mirrored && (c.finished || !any_finished);
+                                               })),
+                static_cast<int>(candidates.size()), threshold, best_orientation,
+                any_finished ? " and were finished" : "");
   why = text;
   return winner;
 }

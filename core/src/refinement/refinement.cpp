@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "isocorr/matching/orientation.h"
+#include "isocorr/refinement/candidate_screening.h"
 #include "isocorr/util/error.h"
 #include "isocorr/util/parallel.h"
 
@@ -16,6 +17,11 @@ namespace {
 constexpr double kSameMapShare = 0.8;
 
 constexpr size_t kFinishedCandidates = 3;
+// A candidate is finished only when its raw curvature disagreement is at most this much
+// (relative) above the best raw candidate's: a turned body's is 20-30% above the right
+// map's; a map with a swapped limb may be 10% below the right one raw, and only finishing
+// shows it (SCAPE 000 -> 011). Finishing a 52K candidate costs 1.8 s.
+constexpr double kFinishedCurvatureMargin = 0.15;
 
 bool same_map(const TrackedMap& a, const TrackedMap& b) {
   std::unordered_map<int, int> image_of;
@@ -30,18 +36,14 @@ bool same_map(const TrackedMap& a, const TrackedMap& b) {
   return common > 0 && same >= kSameMapShare * common;
 }
 
-// Two refined maps that send this share of the source's spectral samples to the same
-// target vertex or one of its neighbours are one map: ZoomOut from two distinct tracked
-// starts often ends in the same place.
+// Two refined maps that send 80% of the source's spectral samples to the same target
+// vertex or one of its neighbours are one map: ZoomOut from two distinct tracked starts
+// often ends in the same place.
 bool same_dense_map(const std::vector<int>& a, const std::vector<int>& b, const std::vector<int>& samples,
                     const MeshTopology& target_topology) {
-  int same = 0;
-  for (const int v : samples) {
-    const int x = a[v], y = b[v];
-    same += x == y || std::find(target_topology.neighbours_begin(x), target_topology.neighbours_end(x), y) !=
-                          target_topology.neighbours_end(x);
-  }
-  return !samples.empty() && same >= kSameMapShare * samples.size();
+  std::vector<int> at_a, at_b;
+  for (const int v : samples) at_a.push_back(a[v]), at_b.push_back(b[v]);
+  return same_images(at_a, at_b, target_topology);
 }
 
 }  // namespace
@@ -51,22 +53,26 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
                                const MatchSettings& settings, const JobControl& control) {
   if (source.spectral_basis().cols() == 0 || target.spectral_basis().cols() == 0)
     throw InputError("refinement needs the shapes' spectral basis: spectral_basis must be positive");
+  // The best ranked distinct tracked maps are screened by a short refinement on the
+  // samples (candidate_screening.h); the refine_candidates that agree best go on.
+  const int screened_count = std::max(settings.screen_candidates, settings.refine_candidates);
   std::vector<int> picked;
   for (const int index : ranked) {
-    if (static_cast<int>(picked.size()) >= settings.refine_candidates) break;
+    if (static_cast<int>(picked.size()) >= screened_count) break;
     bool distinct = true;
     for (const int other : picked) distinct = distinct && !same_map(tracked[other], tracked[index]);
     if (distinct) picked.push_back(index);
   }
-
-  auto side_of = [](const PreprocessedShape& shape) {
-    return SpectralSide{&shape.spectral_basis(), &shape.geodesics().topology(), &shape.spectral_samples(),
-                        &shape.spectral_eigenvalues()};
-  };
-  const SpectralSide source_side = side_of(source), target_side = side_of(target);
   ZoomOutOptions options = settings.zoomout;
   options.threads = settings.threads;
+  std::vector<ScreenedStart> starts = screen_tracked_maps(
+      source, target, tracked, picked, std::min(settings.screen_k_end, options.k_end), options, control);
   RefinedMatch result;
+  for (const ScreenedStart& start : starts) result.screened.push_back(start.evidence);
+  starts = starts_to_refine(std::move(starts), settings.refine_candidates, settings.orientation_margin,
+                            target.geodesics().topology());
+
+  const SpectralSide source_side = spectral_side(source), target_side = spectral_side(target);
   RigidityOptions rigidity_options = settings.rigidity;
   rigidity_options.threads = settings.threads;
   const RigidityPolish rigidity(source, target, rigidity_options);
@@ -81,11 +87,9 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
   };
   std::vector<SpectralMap> maps;
   std::vector<int> refined;  // the tracked map of each of `maps`
-  for (const int index : picked) {
-    std::vector<std::pair<int, int>> start;
-    for (const SamplePair& p : tracked[index].pairs)
-      start.emplace_back(source.sample_vertex(p.source_sample), image_vertex(target, p));
-    SpectralMap map = zoomout(source_side, target_side, start, options, control);
+  for (ScreenedStart& start : starts) {
+    continue_on_samples(source_side, target_side, options.k_end, options, start.sampled, control);
+    SpectralMap map = zoomout_dense(source_side, target_side, start.sampled, options, control);
     control.check_cancelled();
     // A map refined twice would be finished and measured twice, for nothing.
     const bool seen = std::any_of(maps.begin(), maps.end(), [&](const SpectralMap& other) {
@@ -93,7 +97,7 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
     });
     if (seen) continue;
     maps.push_back(std::move(map));
-    refined.push_back(index);
+    refined.push_back(start.evidence.tracked_index);
   }
   // A mirror image stays one when finished (it reverses handedness everywhere): the
   // handedness of the spectral maps decides which are worth finishing.
@@ -103,16 +107,20 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
                                                 maps[i].image);
   const double best_handedness = maps.empty() ? 0 : *std::max_element(handedness.begin(), handedness.end());
   // Finishing costs as much as the spectral refinement; only the kFinishedCandidates maps
-  // within the orientation margin of the best whose raw curvature agrees best are
-  // finished (a turned body's disagreement is 20-30% above the right map's before
-  // finishing as after). The others compete unfinished (a partial mirror may keep 0.63 of
-  // the faces, michael: finishing it would cost 1.8 s for nothing); a winner among them is
-  // finished afterwards.
+  // that pass the mirror test and whose raw curvature agrees best are finished, and only
+  // finished maps compete while one is eligible. A raw map is no match for a finished one:
+  // the polish tears a swapped limb's seams open, so a partial flip's curvature rises when
+  // finished (SCAPE 000 -> 011: raw 0.124 against the right map's 0.136, finished 0.144
+  // against 0.128).
   std::vector<std::pair<double, size_t>> by_curvature;
+  const double mirror_below = mirror_threshold(best_handedness, settings.orientation_margin);
   for (size_t i = 0; i < maps.size(); ++i)
-    if (handedness[i] >= best_handedness - settings.orientation_margin)
+    if (handedness[i] >= mirror_below)
       by_curvature.emplace_back(curvature_disagreement(source, target, maps[i].image), i);
   std::sort(by_curvature.begin(), by_curvature.end());
+  // Only maps whose raw curvature is near the best raw map's can win once finished.
+  while (!by_curvature.empty() && by_curvature.back().first > (1 + kFinishedCurvatureMargin) * by_curvature[0].first)
+    by_curvature.pop_back();
   if (by_curvature.size() > kFinishedCandidates) by_curvature.resize(kFinishedCandidates);
   std::vector<bool> finished(maps.size(), false);
   std::vector<OutlierRepair> repairs(maps.size());
@@ -126,12 +134,13 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
   for (size_t i = 0; i < maps.size(); ++i) {
     if (finished[i]) finish(maps[i], repairs[i]);
     result.candidates[i].tracked_index = refined[i];
+    result.candidates[i].finished = finished[i];
     measure(i, result.candidates[i]);
     control.check_cancelled();
   }
   result.chosen = choose_dense_candidate(result.candidates, settings.orientation_margin, result.why);
   SpectralMap& winner = maps[result.chosen];
-  if (!finished[result.chosen]) {
+  if (!finished[result.chosen]) {  // no finished candidate was eligible
     finish(winner, repairs[result.chosen]);
     measure(result.chosen, result.candidates[result.chosen]);
   }

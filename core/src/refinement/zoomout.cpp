@@ -118,52 +118,83 @@ void recover_reverse(const SpectralSide& source, const SpectralSide& target, con
                 threads, map.reverse_image, map.reverse_residual);
 }
 
-}  // namespace
-
-SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
-                    const std::vector<std::pair<int, int>>& start, const ZoomOutOptions& options,
-                    const JobControl& control) {
+// The sampled iterations from basis size k_first (map.c already fitted there, or refitted
+// from map.images when its size differs) up to k_end: map the source samples (nearest target
+// samples in the spectral embedding), then move the images to vertex accuracy by descent on
+// the target mesh (images snapped to target samples would bias C by up to a sample
+// spacing), refit C with a few more basis functions.
+void grow_on_samples(const SpectralSide& source, const SpectralSide& target, int k_first, int k_end,
+                     const ZoomOutOptions& options, SampleMap& map, const JobControl& control) {
   const RowMatrix& phi_s = *source.basis;
   const RowMatrix& phi_t = *target.basis;
-  const int k_end = std::min<int>({options.k_end, static_cast<int>(phi_s.cols()), static_cast<int>(phi_t.cols())});
+  const std::vector<int>& source_samples = *source.samples;
+  const std::vector<int>& target_samples = *target.samples;
+  const int threads = resolve_thread_count(options.threads);
+  const FunctionalMapFit fit = fit_settings(source, target, options);
+  for (int k = k_first;; k = std::min(k + std::max(1, options.k_step), k_end)) {
+    control.check_cancelled();
+    if (map.c.rows() != k)
+      map.c = fit_functional_map(gather_rows(phi_s, source_samples, k), gather_rows(phi_t, map.images, k), fit);
+    const RowMatrix queries = gather_rows(phi_s, source_samples, k) * map.c;
+    const std::vector<int> nearest = nearest_rows(queries, gather_rows(phi_t, target_samples, k), threads);
+    parallel_for(static_cast<int>(map.images.size()), threads, [&](int i, int) {
+      map.images[i] = descend_in_embedding(queries.row(i).data(), phi_t, k, *target.topology, target_samples[nearest[i]]);
+    });
+    if (k >= k_end) break;
+  }
+}
+
+}  // namespace
+
+SampleMap zoomout_on_samples(const SpectralSide& source, const SpectralSide& target,
+                             const std::vector<std::pair<int, int>>& start, int k_end, const ZoomOutOptions& options,
+                             const JobControl& control) {
+  k_end = std::min<int>({k_end, static_cast<int>(source.basis->cols()), static_cast<int>(target.basis->cols())});
   const int k_start = std::min(options.k_start, k_end);
   if (static_cast<int>(start.size()) < k_start)
     throw InputError("spectral refinement needs at least " + std::to_string(k_start) + " starting pairs, got " +
                      std::to_string(start.size()));
-  const int threads = resolve_thread_count(options.threads);
-  const std::vector<int>& source_samples = *source.samples;
-  const std::vector<int>& target_samples = *target.samples;
-  const FunctionalMapFit fit = fit_settings(source, target, options);
-
-  // The first functional map from the starting pairs, then iterations on the samples:
-  // map the source samples (nearest target samples in the spectral embedding), refit C
-  // with a few more basis functions.
-  // The images are then moved to vertex accuracy by descent on the target mesh: images
-  // snapped to target samples would bias C by up to a sample spacing.
+  // The first functional map from the starting pairs: low frequencies only, so a start
+  // with local errors still gives a smooth, global C.
   std::vector<int> from, to;
   for (const auto& [s, t] : start) from.push_back(s), to.push_back(t);
-  Eigen::MatrixXf c = fit_functional_map(gather_rows(phi_s, from, k_start), gather_rows(phi_t, to, k_start), fit);
-  std::vector<int> images(source_samples.size());  // source sample -> target vertex
-  for (int k = k_start;; k = std::min(k + std::max(1, options.k_step), k_end)) {
-    control.check_cancelled();
-    if (c.rows() != k) c = fit_functional_map(gather_rows(phi_s, source_samples, k), gather_rows(phi_t, images, k), fit);
-    const RowMatrix queries = gather_rows(phi_s, source_samples, k) * c;
-    const std::vector<int> nearest = nearest_rows(queries, gather_rows(phi_t, target_samples, k), threads);
-    parallel_for(static_cast<int>(images.size()), threads, [&](int i, int) {
-      images[i] = descend_in_embedding(queries.row(i).data(), phi_t, k, *target.topology, target_samples[nearest[i]]);
-    });
-    if (k == k_end) break;
-  }
+  SampleMap map;
+  map.c = fit_functional_map(gather_rows(*source.basis, from, k_start), gather_rows(*target.basis, to, k_start),
+                             fit_settings(source, target, options));
+  map.images.assign(source.samples->size(), 0);
+  grow_on_samples(source, target, k_start, k_end, options, map, control);
+  return map;
+}
 
-  // Dense recovery at k_end, then `dense_iterations` refits of C on every vertex (the
-  // samples fix C's low-frequency part; all vertices sharpen the last basis functions).
+void continue_on_samples(const SpectralSide& source, const SpectralSide& target, int k_end,
+                         const ZoomOutOptions& options, SampleMap& map, const JobControl& control) {
+  k_end = std::min<int>({k_end, static_cast<int>(source.basis->cols()), static_cast<int>(target.basis->cols())});
+  const int k = static_cast<int>(map.c.rows());
+  if (map.images.size() != source.samples->size()) {
+    // Grown on fewer samples: every sample is first mapped by the current C.
+    map.images.assign(source.samples->size(), 0);
+    grow_on_samples(source, target, k, k, options, map, control);
+  }
+  if (k >= k_end) return;
+  grow_on_samples(source, target, std::min(k + std::max(1, options.k_step), k_end), k_end, options, map, control);
+}
+
+SpectralMap zoomout_dense(const SpectralSide& source, const SpectralSide& target, const SampleMap& sampled,
+                          const ZoomOutOptions& options, const JobControl& control) {
+  // Dense recovery at the sampled map's basis size, then `dense_iterations` refits of C on
+  // every vertex (the samples fix C's low-frequency part; all vertices sharpen the last
+  // basis functions).
+  const int k = static_cast<int>(sampled.c.rows());
+  const int threads = resolve_thread_count(options.threads);
+  const FunctionalMapFit fit = fit_settings(source, target, options);
   SpectralMap result;
-  result.c = c;
-  const RowMatrix source_rows = phi_s.leftCols(k_end);
-  const RowMatrix target_rows = phi_t.leftCols(k_end);
-  RowMatrix pulled = source_rows * c;  // source vertices in target coordinates
+  result.c = sampled.c;
+  const RowMatrix source_rows = source.basis->leftCols(k);
+  const RowMatrix target_rows = target.basis->leftCols(k);
+  RowMatrix pulled = source_rows * sampled.c;  // source vertices in target coordinates
   recover_dense(pulled, target_rows, *target.topology,
-                starts_from_samples(*source.topology, static_cast<int>(phi_s.rows()), source_samples, images),
+                starts_from_samples(*source.topology, static_cast<int>(source_rows.rows()), *source.samples,
+                                    sampled.images),
                 threads, result.image, result.residual);
   for (int iteration = 0; iteration < options.dense_iterations; ++iteration) {
     control.check_cancelled();
@@ -172,6 +203,13 @@ SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
   control.check_cancelled();
   recover_reverse(source, target, pulled, target_rows, threads, result);
   return result;
+}
+
+SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
+                    const std::vector<std::pair<int, int>>& start, const ZoomOutOptions& options,
+                    const JobControl& control) {
+  return zoomout_dense(source, target, zoomout_on_samples(source, target, start, options.k_end, options, control),
+                       options, control);
 }
 
 void zoomout_polish(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options,

@@ -9,6 +9,7 @@
 #include "isocorr/matching/flip_tracking.h"
 #include "isocorr/matching/level0_search.h"
 #include "isocorr/output/match_output.h"
+#include "isocorr/refinement/candidate_screening.h"
 #include "isocorr/refinement/dense_choice.h"
 #include "isocorr/settings/match_settings.h"
 #include "isocorr/shape/preprocessed_shape.h"
@@ -32,7 +33,8 @@ struct MatchResult {
   int tracked_by_jump_rule = 0;           // N before the min/max bounds
   std::vector<TrackedMap> tracked;
   int chosen = 0;                         // index into `tracked`: the map the result comes from
-  std::vector<DenseCandidate> refined;    // refine = zoomout: the refined candidates,
+  std::vector<ScreenEvidence> screened;  // refine = zoomout: the screened tracked maps,
+  std::vector<DenseCandidate> refined;    // the refined candidates,
   int refined_chosen = 0;                 // the winner among them,
   std::string refined_why;                // and why it won
   double diso = 0;                        // C2F: D_iso of the dense forward map over the anchors;

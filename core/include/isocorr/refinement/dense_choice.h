@@ -54,6 +54,8 @@ struct DenseCandidate {
   DenseEvidence evidence;
   double score = 0;       // curvature_disagreement (lower wins)
   bool mirrored = false;  // orientation below mirror_threshold: not eligible
+  bool finished = true;   // repaired and polished before the choice (refinement.h): an
+                          // unfinished candidate competes only when no finished one is eligible
   std::vector<int> forward;  // its dense map (clean numbering; the files' in a MatchResult)
 };
 
@@ -69,7 +71,8 @@ inline constexpr double kMirrorOrientation = 0.5;
 double mirror_threshold(double best_orientation, double orientation_margin);
 
 // Marks candidates below mirror_threshold as mirrored, scores the rest by curvature
-// disagreement, and returns the index of the winner (least score among the eligible).
+// disagreement, and returns the index of the winner: the least score among the eligible
+// finished candidates, or among all eligible ones when no finished one is.
 // `why` receives one sentence for the report.
 int choose_dense_candidate(std::vector<DenseCandidate>& candidates, double orientation_margin, std::string& why);
 

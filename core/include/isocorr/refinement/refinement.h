@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "isocorr/matching/dense_map.h"
+#include "isocorr/refinement/candidate_screening.h"
 #include "isocorr/refinement/dense_choice.h"
 #include "isocorr/refinement/outlier_repair.h"
 #include "isocorr/settings/match_settings.h"
@@ -16,6 +17,7 @@ namespace isocorr {
 struct RefinedMatch {
   DenseMap dense;  // the winner, clean numbering; confidence is the last stage's residual
                    // (rigidity_polish.h, or the spectral residual when it is off)
+  std::vector<ScreenEvidence> screened;  // every screened start, in the tracked ranking
   std::vector<DenseCandidate> candidates;
   int chosen = 0;  // index into candidates
   std::string why;
@@ -23,12 +25,14 @@ struct RefinedMatch {
 };
 
 // `ranked`: tracked-map indices, best first by the sparse choice rule. The first
-// `settings.refine_candidates` of them whose sample images differ (a tracked map that ends
-// where a better-ranked one did is skipped) are refined spectrally (a refined map that
-// ends where an earlier one did is dropped: same_dense_map in the source); of those within
-// the orientation margin of the best, the three with the least curvature disagreement are
-// finished (outlier repair, rigidity polish). All compete (dense_choice.h); a winner that
-// was not finished is finished then.
+// `settings.screen_candidates` of them whose sample images differ (a tracked map that ends
+// where a better-ranked one did is skipped) are screened on the samples
+// (candidate_screening.h); the `settings.refine_candidates` that keep handedness and agree
+// best in curvature are refined fully (a refined map that ends where an earlier one did is
+// dropped: same_dense_map in the source); of those within the orientation margin of the
+// best, the three with the least curvature disagreement are finished (outlier repair,
+// rigidity polish). All compete (dense_choice.h); a winner that was not finished is
+// finished then.
 RefinedMatch refine_and_choose(const PreprocessedShape& source, const PreprocessedShape& target,
                                const std::vector<TrackedMap>& tracked, const std::vector<int>& ranked,
                                const MatchSettings& settings, const JobControl& control);

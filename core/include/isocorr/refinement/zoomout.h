@@ -52,9 +52,35 @@ struct SpectralMap {
   Eigen::MatrixXf c;            // the last functional map (k_end x k_end)
 };
 
-// Refines a map given on a few source vertices (`start`: (source vertex, target vertex)
-// pairs, at least k_start of them, e.g. the tracked samples' pairs) into a dense map.
-// Deterministic for given inputs; `control` is checked between iterations.
+// The sampled stage's state: the functional map at its current basis size (k = c.rows())
+// and the image (a target vertex) of each of the source's spectral samples.
+struct SampleMap {
+  Eigen::MatrixXf c;
+  std::vector<int> images;
+};
+
+// The sampled stage from a map given on a few source vertices (`start`: (source vertex,
+// target vertex) pairs, at least k_start of them, e.g. a tracked map's sample pairs): C
+// fitted at k_start, grown by k_step up to k_end (at most the bases' size). Cheap at a small
+// k_end (no vertex beyond the samples is touched): a way to see where a start leads.
+SampleMap zoomout_on_samples(const SpectralSide& source, const SpectralSide& target,
+                             const std::vector<std::pair<int, int>>& start, int k_end, const ZoomOutOptions& options,
+                             const JobControl& control = {});
+
+// Grows a sampled map on from its basis size to k_end; the same as having asked
+// zoomout_on_samples for k_end at once. A map grown on other samples (fewer, say) is first
+// carried to source.samples by its C at its basis size.
+void continue_on_samples(const SpectralSide& source, const SpectralSide& target, int k_end,
+                         const ZoomOutOptions& options, SampleMap& map, const JobControl& control = {});
+
+// The dense map from a sampled one, at its basis size: every vertex's image, then
+// options.dense_iterations refits on every vertex, and the reverse map from the last C.
+SpectralMap zoomout_dense(const SpectralSide& source, const SpectralSide& target, const SampleMap& sampled,
+                          const ZoomOutOptions& options, const JobControl& control = {});
+
+// Refines a map given on a few source vertices into a dense map: zoomout_on_samples up to
+// options.k_end, then zoomout_dense. Deterministic for given inputs; `control` is checked
+// between iterations.
 SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
                     const std::vector<std::pair<int, int>>& start, const ZoomOutOptions& options,
                     const JobControl& control = {});

@@ -56,11 +56,15 @@ struct MatchSettings {
   TrackingOptions tracking;
   DenseOptions dense;               // the C2F dense level (refine = none)
   RefineMethod refine = RefineMethod::kZoomOut;
-  // Distinct tracked maps refined spectrally (refinement.h); the three whose curvature
-  // agrees best are finished and compared. Three covered the true map and its two sparse
-  // look-alikes (the mirror and the turned body) on most pairs; on SCAPE's hardest poses
-  // the right map was ranked 4th (2 of the 11 pairs without a right candidate among 3;
-  // 6 candidates found no more, at 0.6 s per SCAPE pair for each one added).
+  // The best ranked distinct tracked maps screened by a short refinement on the samples up
+  // to basis size screen_k_end (candidate_screening.h); of those, the refine_candidates that
+  // keep handedness and whose curvature agrees best are refined fully, and the three best
+  // of those are finished and compared (refinement.h). On SCAPE's extreme poses the right
+  // tracked map ranked anywhere up to 20th; 32 screened starts held a right map on 8 of the
+  // 9 pairs that had none among the 4 best ranked (16: 5 of 9), for about 0.02 s a start at
+  // 5K vertices.
+  int screen_candidates = 32;
+  int screen_k_end = 70;
   int refine_candidates = 4;
   ZoomOutOptions zoomout;
   bool outlier_repair = true;       // each refined map's misplaced regions searched again (outlier_repair.h)

@@ -1,0 +1,17 @@
+// Preprocessing options shared by the tests of spectral refinement: a basis and sample
+// count small enough for the procedural meshes, on two threads.
+#pragma once
+
+#include "isocorr/shape/preprocessed_shape.h"
+
+namespace isocorr::test_support {
+
+inline PreprocessOptions spectral_options() {
+  PreprocessOptions options;
+  options.spectral_basis = 60;
+  options.spectral_samples = 800;
+  options.threads = 2;
+  return options;
+}
+
+}  // namespace isocorr::test_support
