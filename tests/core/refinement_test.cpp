@@ -158,6 +158,25 @@ TEST(DenseChoice, ATurnedMapLosesOnCurvature) {
   EXPECT_NE(why.find("curvature"), std::string::npos);
 }
 
+// A map with a swapped limb looks at the same shapes as the right map (curvature within
+// 2%, SCAPE 002 -> 008) but tears geodesics at its seams; a turned body's distortion is as
+// low as the right map's, its curvature is not.
+TEST(DenseChoice, ASwappedLimbLosesOnDistortionATurnedBodyOnCurvature) {
+  std::vector<DenseCandidate> candidates(3);
+  candidates[0].evidence.orientation = 0.64;  // swapped limb
+  candidates[0].evidence.curvature_disagreement = 0.1396;
+  candidates[0].evidence.distortion = 0.0339;
+  candidates[1].evidence.orientation = 0.76;  // turned
+  candidates[1].evidence.curvature_disagreement = 0.1643;
+  candidates[1].evidence.distortion = 0.0273;
+  candidates[2].evidence.orientation = 0.93;  // right
+  candidates[2].evidence.curvature_disagreement = 0.1415;
+  candidates[2].evidence.distortion = 0.0302;
+  std::string why;
+  EXPECT_EQ(choose_dense_candidate(candidates, 0.1, why), 2);
+  EXPECT_NE(why.find("distortion"), std::string::npos);
+}
+
 // A right map with a few misplaced regions keeps fewer faces' handedness than a clean
 // turned body; it is still no mirror, and it wins on curvature. Only when no candidate
 // keeps most faces does the relative margin decide.
@@ -165,8 +184,10 @@ TEST(DenseChoice, ARightMapWithLowerHandednessIsNoMirror) {
   std::vector<DenseCandidate> candidates(2);
   candidates[0].evidence.orientation = 0.82;  // turned
   candidates[0].evidence.curvature_disagreement = 0.13;
+  candidates[0].evidence.distortion = 0.03;
   candidates[1].evidence.orientation = 0.61;  // right, partly misplaced
   candidates[1].evidence.curvature_disagreement = 0.06;
+  candidates[1].evidence.distortion = 0.03;
   std::string why;
   EXPECT_EQ(choose_dense_candidate(candidates, 0.1, why), 1);
   EXPECT_FALSE(candidates[1].mirrored);
@@ -180,11 +201,12 @@ TEST(DenseChoice, AnUnfinishedCandidateCompetesOnlyWhenNoFinishedOneIsEligible) 
   std::vector<DenseCandidate> candidates(3);
   candidates[0].evidence.orientation = 0.9;
   candidates[0].evidence.curvature_disagreement = 0.13;
-  candidates[1].evidence.orientation = 0.75;  // a swapped limb, raw: lower curvature
+  candidates[1].evidence.orientation = 0.75;  // raw: lower curvature
   candidates[1].evidence.curvature_disagreement = 0.12;
   candidates[1].finished = false;
   candidates[2].evidence.orientation = 0.1;  // a finished mirror
   candidates[2].evidence.curvature_disagreement = 0.11;
+  for (DenseCandidate& c : candidates) c.evidence.distortion = 0.03;
   std::string why;
   EXPECT_EQ(choose_dense_candidate(candidates, 0.1, why), 0);
   candidates[0].evidence.orientation = 0.2;

@@ -113,7 +113,7 @@ int choose_dense_candidate(std::vector<DenseCandidate>& candidates, double orien
   const double threshold = mirror_threshold(best_orientation, orientation_margin);
   bool any_finished = false;
   for (DenseCandidate& c : candidates) {
-    c.score = c.evidence.curvature_disagreement;
+    c.score = c.evidence.curvature_disagreement * c.evidence.distortion;
     c.mirrored = c.evidence.orientation < threshold;
     any_finished = any_finished || (!c.mirrored && c.finished);
   }
@@ -123,9 +123,9 @@ int choose_dense_candidate(std::vector<DenseCandidate>& candidates, double orien
     if (c.mirrored || (any_finished && !c.finished)) continue;
     if (winner < 0 || c.score < candidates[winner].score) winner = i;
   }
-  char text[200];
+  char text[300];
   std::snprintf(text, sizeof text,
-                "least curvature disagreement (%.4f) among the %d of %d refined candidates that keep the "
+                "least curvature disagreement x distortion (%.6f) among the %d of %d refined candidates that keep the "
                 "handedness of at least %.3f of the faces (best %.3f)%s",
                 candidates[winner].score,
                 static_cast<int>(std::count_if(candidates.begin(), candidates.end(),

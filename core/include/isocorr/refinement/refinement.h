@@ -26,12 +26,13 @@ struct RefinedMatch {
 
 // `ranked`: tracked-map indices, best first by the sparse choice rule. The first
 // `settings.screen_candidates` of them whose sample images differ (a tracked map that ends
-// where a better-ranked one did is skipped) are screened on the samples
-// (candidate_screening.h); the `settings.refine_candidates` that keep handedness and agree
-// best in curvature are refined fully (a refined map that ends where an earlier one did is
-// dropped: same_dense_map in the source); of those within the orientation margin of the
-// best, the three with the least curvature disagreement are finished (outlier repair,
-// rigidity polish). All compete (dense_choice.h); a winner that was not finished is
+// where a better-ranked one did is skipped) are screened on the samples, and
+// `settings.refine_candidates` of them are picked from the ranking and the screen in turn
+// (candidate_screening.h) and refined fully (a refined map that ends where an earlier one
+// did is dropped: same_dense_map in the source). Of those that pass the mirror test, up to
+// three whose raw curvature disagreement is within 15% of the best raw one's are finished
+// (outlier repair, rigidity polish), and the finished ones compete (dense_choice.h); only
+// when none passes the mirror test do unfinished ones, and a winner among them is
 // finished then.
 RefinedMatch refine_and_choose(const PreprocessedShape& source, const PreprocessedShape& target,
                                const std::vector<TrackedMap>& tracked, const std::vector<int>& ranked,

@@ -57,12 +57,12 @@ struct MatchSettings {
   DenseOptions dense;               // the C2F dense level (refine = none)
   RefineMethod refine = RefineMethod::kZoomOut;
   // The best ranked distinct tracked maps screened by a short refinement on the samples up
-  // to basis size screen_k_end (candidate_screening.h); of those, the refine_candidates that
-  // keep handedness and whose curvature agrees best are refined fully, and the three best
-  // of those are finished and compared (refinement.h). On SCAPE's extreme poses the right
-  // tracked map ranked anywhere up to 20th; 32 screened starts held a right map on 8 of the
-  // 9 pairs that had none among the 4 best ranked (16: 5 of 9), for about 0.02 s a start at
-  // 5K vertices.
+  // to basis size screen_k_end (candidate_screening.h); refine_candidates of them, taken in
+  // turn from the ranking and from the screen (least curvature disagreement first), are
+  // refined fully, and up to three of those are finished and compared (refinement.h). On
+  // SCAPE's extreme poses the right tracked map ranked anywhere up to 20th; 32 screened
+  // starts gave a right candidate on 8 of the 9 pairs that had none among the 4 best
+  // ranked (16: 5 of 9), for about 0.03 s a start at 5K vertices.
   int screen_candidates = 32;
   int screen_k_end = 70;
   int refine_candidates = 4;
