@@ -54,7 +54,8 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
   if (source.spectral_basis().cols() == 0 || target.spectral_basis().cols() == 0)
     throw InputError("refinement needs the shapes' spectral basis: spectral_basis must be positive");
   // The best ranked distinct tracked maps are screened by a short refinement on the
-  // samples (candidate_screening.h); the refine_candidates that agree best go on.
+  // samples; refine_candidates of them, from the ranking and the screen in turn, go on
+  // (candidate_screening.h).
   const int screened_count = std::max(settings.screen_candidates, settings.refine_candidates);
   std::vector<int> picked;
   for (const int index : ranked) {
@@ -76,7 +77,7 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
   RigidityOptions rigidity_options = settings.rigidity;
   rigidity_options.threads = settings.threads;
   const RigidityPolish rigidity(source, target, rigidity_options);
-  // Every candidate is finished before the choice, not only the winner: a right map that
+  // Candidates are finished before the choice, not only the winner: a right map that
   // converged less well (SCAPE 001 -> 004, 006: D_grd 0.016-0.02 against 0.010 typical)
   // lost to a turned body on heat signatures; finished, it wins (signature 0.0145 against
   // 0.0150 on 001 -> 004). The repair goes first: the rigidity polish would spread a
