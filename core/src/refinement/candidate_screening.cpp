@@ -16,10 +16,9 @@ SpectralSide spectral_side(const PreprocessedShape& shape) {
                       &shape.spectral_eigenvalues()};
 }
 
-std::vector<int> spread_sample_map(const PreprocessedShape& source, const std::vector<int>& samples,
-                                   const std::vector<int>& sample_images) {
-  std::vector<int> forward = nearest_centre(source.geodesics().topology(), source.mesh().num_vertices(), samples);
-  for (int& image : forward) image = sample_images[image];
+std::vector<int> spread_sample_map(const std::vector<int>& nearest_sample, const std::vector<int>& sample_images) {
+  std::vector<int> forward(nearest_sample.size());
+  for (size_t v = 0; v < forward.size(); ++v) forward[v] = sample_images[nearest_sample[v]];
   return forward;
 }
 
@@ -36,6 +35,8 @@ std::vector<ScreenedStart> screen_tracked_maps(const PreprocessedShape& source, 
   SpectralSide source_side = spectral_side(source), target_side = spectral_side(target);
   source_side.samples = &source_samples;
   target_side.samples = &target_samples;
+  const std::vector<int> nearest_sample =
+      nearest_centre(source.geodesics().topology(), source.mesh().num_vertices(), source_samples);
   std::vector<ScreenedStart> screened;
   for (const int index : starts) {
     std::vector<std::pair<int, int>> start;
@@ -44,8 +45,9 @@ std::vector<ScreenedStart> screen_tracked_maps(const PreprocessedShape& source, 
     ScreenedStart s;
     s.evidence.tracked_index = index;
     s.sampled = zoomout_on_samples(source_side, target_side, start, k_end, options, control);
-    s.evidence.orientation = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(), target.normals(),
-                                                spread_sample_map(source, source_samples, s.sampled.images));
+    s.evidence.orientation = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
+                                                         target.normals(),
+                                                         spread_sample_map(nearest_sample, s.sampled.images));
     std::vector<std::pair<int, int>> pairs;
     for (size_t i = 0; i < source_samples.size(); ++i) pairs.emplace_back(source_samples[i], s.sampled.images[i]);
     s.evidence.curvature = curvature_disagreement(source.smoothed_curvature(), target.smoothed_curvature(), pairs);

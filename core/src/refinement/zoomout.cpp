@@ -92,6 +92,11 @@ RowMatrix refit_on_every_vertex(const RowMatrix& source_rows, const RowMatrix& t
   return pulled;
 }
 
+// A basis size no larger than either shape's basis.
+int within_bases(int k, const SpectralSide& source, const SpectralSide& target) {
+  return std::min<int>({k, static_cast<int>(source.basis->cols()), static_cast<int>(target.basis->cols())});
+}
+
 FunctionalMapFit fit_settings(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options) {
   FunctionalMapFit fit;
   fit.source_eigenvalues = source.eigenvalues;
@@ -149,7 +154,7 @@ void grow_on_samples(const SpectralSide& source, const SpectralSide& target, int
 SampleMap zoomout_on_samples(const SpectralSide& source, const SpectralSide& target,
                              const std::vector<std::pair<int, int>>& start, int k_end, const ZoomOutOptions& options,
                              const JobControl& control) {
-  k_end = std::min<int>({k_end, static_cast<int>(source.basis->cols()), static_cast<int>(target.basis->cols())});
+  k_end = within_bases(k_end, source, target);
   const int k_start = std::min(options.k_start, k_end);
   if (static_cast<int>(start.size()) < k_start)
     throw InputError("spectral refinement needs at least " + std::to_string(k_start) + " starting pairs, got " +
@@ -168,7 +173,7 @@ SampleMap zoomout_on_samples(const SpectralSide& source, const SpectralSide& tar
 
 void continue_on_samples(const SpectralSide& source, const SpectralSide& target, int k_end,
                          const ZoomOutOptions& options, SampleMap& map, const JobControl& control) {
-  k_end = std::min<int>({k_end, static_cast<int>(source.basis->cols()), static_cast<int>(target.basis->cols())});
+  k_end = within_bases(k_end, source, target);
   const int k = static_cast<int>(map.c.rows());
   if (map.images.size() != source.samples->size()) {
     // Grown on fewer samples: every sample is first mapped by the current C.
@@ -216,7 +221,7 @@ void zoomout_polish(const SpectralSide& source, const SpectralSide& target, cons
                     SpectralMap& map, const JobControl& control) {
   const RowMatrix& phi_s = *source.basis;
   const RowMatrix& phi_t = *target.basis;
-  const int k_end = std::min<int>({options.polish_k_end, static_cast<int>(phi_s.cols()), static_cast<int>(phi_t.cols())});
+  const int k_end = within_bases(options.polish_k_end, source, target);
   int k = static_cast<int>(map.c.rows());
   if (k >= k_end) return;
   const int threads = resolve_thread_count(options.threads);

@@ -58,11 +58,12 @@ std::vector<ScreenedStart> starts_to_refine(std::vector<ScreenedStart> screened,
 // image or neighbouring ones.
 bool same_images(const std::vector<int>& a, const std::vector<int>& b, const MeshTopology& target_topology);
 
-// A dense map from a sampled one (`sample_images[i]` the image of source vertex
-// samples[i]): each vertex goes where its nearest sample goes. Its faces that span three
-// samples' images are the sample map's triangles, enough to read the handedness a map keeps.
-std::vector<int> spread_sample_map(const PreprocessedShape& source, const std::vector<int>& samples,
-                                   const std::vector<int>& sample_images);
+// A dense map from a sampled one (`sample_images[i]` the image of sample i): each vertex
+// goes where its nearest sample goes (`nearest_sample`, from nearest_centre in
+// vertex_spreading.h, the same for every map of the same samples). Its faces that span
+// three samples' images are the sample map's triangles, enough to read the handedness a
+// map keeps.
+std::vector<int> spread_sample_map(const std::vector<int>& nearest_sample, const std::vector<int>& sample_images);
 
 // The SpectralSide of a preprocessed shape: its basis, topology, spectral samples and eigenvalues.
 SpectralSide spectral_side(const PreprocessedShape& shape);
