@@ -11,17 +11,41 @@
 namespace isocorr {
 namespace {
 
-// d_iso(s, t | anchors) with the largest `trim` share of the terms left out: a trimmed
-// mean, so that a few misplaced anchors or a non-isometric part (a cat's tail) do not
-// decide the match. `skip` (or -1) leaves one anchor out entirely.
-float anchored_distortion(const PreprocessedShape& source, const PreprocessedShape& target,
-                          int source_vertex, int target_vertex, const std::vector<SamplePair>& anchors,
-                          size_t anchor_count, int skip, double trim, std::vector<float>& scratch) {
+// Geodesic distances to the anchors, laid out for the inner loops of matching: a source
+// vertex's distances to the anchors' sources, and for every target sample of the pool a
+// contiguous row of its distances to the anchors' images. Each level compares every new
+// source sample with many pool samples, so reading rows instead of scattering over the
+// anchors' fields makes tracking about twice as fast with the same numbers.
+struct AnchorDistances {
+  size_t anchor_count = 0;
+  std::vector<float> pool_rows;  // pool.size() x anchor_count
+
+  AnchorDistances(const PreprocessedShape& target, const std::vector<SamplePair>& anchors, size_t count,
+                  const std::vector<int>& pool)
+      : anchor_count(count), pool_rows(pool.size() * count) {
+    for (size_t j = 0; j < pool.size(); ++j) {
+      const int tv = target.sample_vertex(pool[j]);
+      for (size_t a = 0; a < count; ++a) pool_rows[j * count + a] = target.field(anchors[a].target_sample, tv);
+    }
+  }
+  const float* pool_row(size_t j) const { return pool_rows.data() + j * anchor_count; }
+};
+
+void distances_to_anchor_sources(const PreprocessedShape& source, const std::vector<SamplePair>& anchors,
+                                 size_t anchor_count, int source_vertex, std::vector<float>& out) {
+  out.resize(anchor_count);
+  for (size_t a = 0; a < anchor_count; ++a) out[a] = source.field(anchors[a].source_sample, source_vertex);
+}
+
+// d_iso(s, t | anchors) from s's distances to the anchors' sources and t's to their images,
+// with the largest `trim` share of the terms left out: a trimmed mean, so that a few
+// misplaced anchors or a non-isometric part (a cat's tail) do not decide the match.
+// `skip` (or -1) leaves one anchor out entirely.
+float anchored_distortion(const std::vector<float>& source_distances, const float* target_distances, int skip,
+                          double trim, std::vector<float>& scratch) {
   scratch.clear();
-  for (size_t a = 0; a < anchor_count; ++a)
-    if (static_cast<int>(a) != skip)
-      scratch.push_back(std::abs(source.field(anchors[a].source_sample, source_vertex) -
-                                 target.field(anchors[a].target_sample, target_vertex)));
+  for (size_t a = 0; a < source_distances.size(); ++a)
+    if (static_cast<int>(a) != skip) scratch.push_back(std::abs(source_distances[a] - target_distances[a]));
   if (scratch.empty()) return 0.f;
   const size_t kept = std::max<size_t>(1, static_cast<size_t>(std::lround(scratch.size() * (1.0 - trim))));
   if (kept < scratch.size()) std::nth_element(scratch.begin(), scratch.begin() + kept, scratch.end());
@@ -39,18 +63,19 @@ void reassign_pairs(const PreprocessedShape& source, const PreprocessedShape& ta
                     std::vector<SamplePair>& pairs) {
   const std::vector<SamplePair> anchors = pairs;
   const size_t anchor_count = std::min(anchors.size(), static_cast<size_t>(options.anchor_cap));
-  std::vector<float> scratch;
+  const AnchorDistances distances(target, anchors, anchor_count, pool);
+  std::vector<float> source_distances, scratch;
   for (size_t p = 0; p < pairs.size(); ++p) {
     const int sv = source.sample_vertex(pairs[p].source_sample);
+    distances_to_anchor_sources(source, anchors, anchor_count, sv, source_distances);
     const int current = pairs[p].target_sample;
     int best = current;
     float best_cost = std::numeric_limits<float>::max();
-    for (int j : pool) {
-      const int tv = target.sample_vertex(j);
-      if (target.field(current, tv) > radius) continue;
-      const float cost = anchored_distortion(source, target, sv, tv, anchors, anchor_count,
-                                             static_cast<int>(p), options.trim_fraction, scratch);
-      if (cost < best_cost) best_cost = cost, best = j;
+    for (size_t j = 0; j < pool.size(); ++j) {
+      if (target.field(current, target.sample_vertex(pool[j])) > radius) continue;
+      const float cost = anchored_distortion(source_distances, distances.pool_row(j), static_cast<int>(p),
+                                             options.trim_fraction, scratch);
+      if (cost < best_cost) best_cost = cost, best = pool[j];
     }
     pairs[p].target_sample = best;
     pairs[p].diso = best_cost;
@@ -113,7 +138,7 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
   }
   const int levels = std::min(source.options().decision_level, target.options().decision_level);
   const double r0 = source.options().level0_radius, shrink = source.options().level_shrink;
-  std::vector<float> scratch;
+  std::vector<float> source_distances, scratch;
   for (int level = 1; level <= levels; ++level) {
     control.check_cancelled();
     const std::vector<SamplePair> anchors = tracked.pairs;  // pairs of earlier levels
@@ -126,6 +151,7 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
     for (int j = 0; j < target.num_samples(); ++j)
       if (target.sample_step(j) <= pool_step) pool.push_back(j);
     const double radius = r0 * std::pow(shrink, level);
+    const AnchorDistances distances(target, anchors, anchor_count, pool);
 
     for (int s = 0; s < source.num_samples(); ++s) {
       if (matched[s] || source.sample_step(s) > 2 * level) continue;
@@ -138,6 +164,7 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
         if (d < parent_distance) parent_distance = d, parent = &a;
       }
       const double window = options.window_factor * parent_distance + radius;
+      distances_to_anchor_sources(source, anchors, anchor_count, sv, source_distances);
       // Passes widen the search when nothing qualifies: near the parent's image and
       // keeping handedness, then near the parent's image, then anywhere.
       std::optional<HandednessGuard> guard;
@@ -146,13 +173,13 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
       int best = -1;
       float best_cost = std::numeric_limits<float>::max();
       for (int pass = first_pass; pass < 3 && best < 0; ++pass) {
-        for (int j : pool) {
-          const int tv = target.sample_vertex(j);
+        for (size_t j = 0; j < pool.size(); ++j) {
+          const int tv = target.sample_vertex(pool[j]);
           if (pass < 2 && target.field(parent->target_sample, tv) > window) continue;
           if (pass == 0 && !guard->accepts(tv)) continue;
-          const float cost = anchored_distortion(source, target, sv, tv, anchors, anchor_count, -1,
-                                                 options.trim_fraction, scratch);
-          if (cost < best_cost) best_cost = cost, best = j;
+          const float cost =
+              anchored_distortion(source_distances, distances.pool_row(j), -1, options.trim_fraction, scratch);
+          if (cost < best_cost) best_cost = cost, best = pool[j];
         }
       }
       tracked.pairs.push_back({s, best, best_cost});
