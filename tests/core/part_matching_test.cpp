@@ -100,7 +100,16 @@ TEST_F(PartOfBlob, APartMapsOntoItsPlaceAtAnyScaleAndTheRestHasNoCounterpart) {
     }
     EXPECT_GE(kept_matched, 0.9 * kept_total) << cut_kind_name(kind);
     ASSERT_GT(deep_total, 0);
-    EXPECT_LE(deep_matched, 0.05 * deep_total) << cut_kind_name(kind);
+    // Almost no part vertex lands deep in the cut. A stray rim vertex's image marks a disc
+    // of target vertices around it as matched (the reverse map's reach), about four deep
+    // ones each: three stray rim vertices (images 0.03-0.04 of the diameter into the cut) mark
+    // 6% of the deep region.
+    std::vector<int> full_of_copy(copy_->permutation.size());
+    for (size_t v = 0; v < full_of_copy.size(); ++v) full_of_copy[copy_->permutation[v]] = static_cast<int>(v);
+    int landed_deep = 0;
+    for (const int image : result.output.forward) landed_deep += from_kept.distance[full_of_copy[image]] > deep;
+    EXPECT_LE(landed_deep, 0.01 * result.output.forward.size()) << cut_kind_name(kind);
+    EXPECT_LE(deep_matched, 0.1 * deep_total) << cut_kind_name(kind);
     EXPECT_NEAR(result.target_matched_share, part.kept_area, 0.1) << cut_kind_name(kind);
   }
 }
