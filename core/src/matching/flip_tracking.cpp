@@ -40,15 +40,30 @@ void distances_to_anchor_sources(const PreprocessedShape& source, const std::vec
 // d_iso(s, t | anchors) from s's distances to the anchors' sources and t's to their images,
 // with the largest `trim` share of the terms left out: a trimmed mean, so that a few
 // misplaced anchors or a non-isometric part (a cat's tail) do not decide the match.
-// `skip` (or -1) leaves one anchor out entirely.
+// `skip` (or -1) leaves one anchor out entirely. A candidate whose distortion is certainly
+// above `to_beat` (the best so far) gets +infinity without the selection of its kept terms,
+// which is most of the cost: the kept terms sum to at least the total less the dropped
+// count times the largest term, and far candidates fail that test.
 float anchored_distortion(const std::vector<float>& source_distances, const float* target_distances, int skip,
-                          double trim, std::vector<float>& scratch) {
+                          double trim, float to_beat, std::vector<float>& scratch) {
   scratch.clear();
-  for (size_t a = 0; a < source_distances.size(); ++a)
-    if (static_cast<int>(a) != skip) scratch.push_back(std::abs(source_distances[a] - target_distances[a]));
+  double total = 0;
+  float largest = 0;
+  for (size_t a = 0; a < source_distances.size(); ++a) {
+    if (static_cast<int>(a) == skip) continue;
+    const float term = std::abs(source_distances[a] - target_distances[a]);
+    scratch.push_back(term);
+    total += term;
+    largest = std::max(largest, term);
+  }
   if (scratch.empty()) return 0.f;
   const size_t kept = std::max<size_t>(1, static_cast<size_t>(std::lround(scratch.size() * (1.0 - trim))));
-  if (kept < scratch.size()) std::nth_element(scratch.begin(), scratch.begin() + kept, scratch.end());
+  if (kept < scratch.size()) {
+    const double least_mean = (total - static_cast<double>(scratch.size() - kept) * largest) / kept;
+    // The margin covers the rounding of the sums: a pruned candidate could not have won.
+    if (least_mean > 1.0001 * static_cast<double>(to_beat)) return std::numeric_limits<float>::infinity();
+    std::nth_element(scratch.begin(), scratch.begin() + kept, scratch.end());
+  }
   double sum = 0;
   for (size_t i = 0; i < kept; ++i) sum += scratch[i];
   return static_cast<float>(sum / kept);
@@ -74,7 +89,7 @@ void reassign_pairs(const PreprocessedShape& source, const PreprocessedShape& ta
     for (size_t j = 0; j < pool.size(); ++j) {
       if (target.field(current, target.sample_vertex(pool[j])) > radius) continue;
       const float cost = anchored_distortion(source_distances, distances.pool_row(j), static_cast<int>(p),
-                                             options.trim_fraction, scratch);
+                                             options.trim_fraction, best_cost, scratch);
       if (cost < best_cost) best_cost = cost, best = pool[j];
     }
     pairs[p].target_sample = best;
@@ -178,7 +193,7 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
           if (pass < 2 && target.field(parent->target_sample, tv) > window) continue;
           if (pass == 0 && !guard->accepts(tv)) continue;
           const float cost =
-              anchored_distortion(source_distances, distances.pool_row(j), -1, options.trim_fraction, scratch);
+              anchored_distortion(source_distances, distances.pool_row(j), -1, options.trim_fraction, best_cost, scratch);
           if (cost < best_cost) best_cost = cost, best = pool[j];
         }
       }
