@@ -46,17 +46,19 @@ void distances_to_anchor_sources(const PreprocessedShape& source, const std::vec
 // count times the largest term, and far candidates fail that test.
 float anchored_distortion(const std::vector<float>& source_distances, const float* target_distances, int skip,
                           double trim, float to_beat, std::vector<float>& scratch) {
-  scratch.clear();
-  double total = 0;
-  float largest = 0;
-  for (size_t a = 0; a < source_distances.size(); ++a) {
-    if (static_cast<int>(a) == skip) continue;
-    const float term = std::abs(source_distances[a] - target_distances[a]);
-    scratch.push_back(term);
-    total += term;
-    largest = std::max(largest, term);
-  }
+  const size_t count = source_distances.size();
+  scratch.resize(count);
+  for (size_t a = 0; a < count; ++a) scratch[a] = std::abs(source_distances[a] - target_distances[a]);
+  if (skip >= 0 && static_cast<size_t>(skip) < count) scratch.erase(scratch.begin() + skip);
   if (scratch.empty()) return 0.f;
+  // Four running sums and no branch: these loops run for every candidate.
+  double sums[4] = {0, 0, 0, 0};
+  float largest = 0;
+  for (size_t a = 0; a < scratch.size(); ++a) {
+    sums[a % 4] += scratch[a];
+    largest = std::max(largest, scratch[a]);
+  }
+  const double total = sums[0] + sums[1] + sums[2] + sums[3];
   const size_t kept = std::max<size_t>(1, static_cast<size_t>(std::lround(scratch.size() * (1.0 - trim))));
   if (kept < scratch.size()) {
     const double least_mean = (total - static_cast<double>(scratch.size() - kept) * largest) / kept;
