@@ -30,9 +30,16 @@ std::vector<int> nearest_rows(const RowMatrix& queries, const RowMatrix& points,
   std::vector<int> nearest(n, 0);
   parallel_for(blocks, threads, [&](int block, int) {
     const int begin = block * kBlock, rows = std::min(kBlock, n - begin);
-    const Eigen::MatrixXf scores = (-2.f * (queries.middleRows(begin, rows) * points.transpose())).rowwise() +
-                                   point_norms.transpose();
-    for (int r = 0; r < rows; ++r) scores.row(r).minCoeff(&nearest[begin + r]);
+    // One column per query, so that each minimum is found in contiguous memory; the least
+    // value first (a vectorised reduction), then its first position, as minCoeff(&index).
+    const Eigen::MatrixXf products = -2.f * (points * queries.middleRows(begin, rows).transpose());
+    Eigen::VectorXf scores(points.rows());
+    for (int r = 0; r < rows; ++r) {
+      scores = products.col(r) + point_norms;
+      const float least = scores.minCoeff();
+      const float* found = std::find(scores.data(), scores.data() + scores.size(), least);
+      nearest[begin + r] = found == scores.data() + scores.size() ? 0 : static_cast<int>(found - scores.data());  // NaN
+    }
   });
   return nearest;
 }
