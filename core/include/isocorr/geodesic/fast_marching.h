@@ -28,6 +28,8 @@ class FastMarching {
     std::vector<float> distance;     // #V, kUnreached outside the computed region
     std::vector<unsigned char> state;
     std::vector<int> touched;        // vertices whose distance is set, for cheap resets
+    std::vector<int> front;          // trial vertices, a binary min-heap (fast_marching.cpp)
+    std::vector<int> front_position;  // #V, each vertex's place in `front` or -1
   };
 
   // Distances from the source vertices (distance 0 at each) to every vertex, stopping once
