@@ -15,7 +15,7 @@ namespace {
 // vertex's distances to the anchors' sources, and for every target sample of the pool a
 // contiguous row of its distances to the anchors' images. Each level compares every new
 // source sample with many pool samples, so reading rows instead of scattering over the
-// anchors' fields makes tracking about twice as fast with the same numbers.
+// anchors' fields makes tracking faster with the same numbers (cat0 -> cat2: 1.30 -> 1.08 s).
 struct AnchorDistances {
   size_t anchor_count = 0;
   std::vector<float> pool_rows;  // pool.size() x anchor_count
@@ -32,21 +32,21 @@ struct AnchorDistances {
 };
 
 void distances_to_anchor_sources(const PreprocessedShape& source, const std::vector<SamplePair>& anchors,
-                                 size_t anchor_count, int source_vertex, std::vector<float>& out) {
-  out.resize(anchor_count);
-  for (size_t a = 0; a < anchor_count; ++a) out[a] = source.field(anchors[a].source_sample, source_vertex);
+                                 int source_vertex, std::vector<float>& out) {
+  out.resize(anchors.size());
+  for (size_t a = 0; a < anchors.size(); ++a) out[a] = source.field(anchors[a].source_sample, source_vertex);
 }
 
-// d_iso(s, t | anchors) from s's distances to the anchors' sources and t's to their images,
+// d_iso(s, t | anchors) from s's distances to the first `count` anchors' sources and t's to
+// their images,
 // with the largest `trim` share of the terms left out: a trimmed mean, so that a few
 // misplaced anchors or a non-isometric part (a cat's tail) do not decide the match.
 // `skip` (or -1) leaves one anchor out entirely. A candidate whose distortion is certainly
 // above `to_beat` (the best so far) gets +infinity without the selection of its kept terms,
 // which is most of the cost: the kept terms sum to at least the total less the dropped
 // count times the largest term, and far candidates fail that test.
-float anchored_distortion(const std::vector<float>& source_distances, const float* target_distances, int skip,
+float anchored_distortion(const float* source_distances, const float* target_distances, size_t count, int skip,
                           double trim, float to_beat, std::vector<float>& scratch) {
-  const size_t count = source_distances.size();
   scratch.resize(count);
   for (size_t a = 0; a < count; ++a) scratch[a] = std::abs(source_distances[a] - target_distances[a]);
   if (skip >= 0 && static_cast<size_t>(skip) < count) scratch.erase(scratch.begin() + skip);
@@ -84,14 +84,14 @@ void reassign_pairs(const PreprocessedShape& source, const PreprocessedShape& ta
   std::vector<float> source_distances, scratch;
   for (size_t p = 0; p < pairs.size(); ++p) {
     const int sv = source.sample_vertex(pairs[p].source_sample);
-    distances_to_anchor_sources(source, anchors, anchor_count, sv, source_distances);
+    distances_to_anchor_sources(source, anchors, sv, source_distances);
     const int current = pairs[p].target_sample;
     int best = current;
     float best_cost = std::numeric_limits<float>::max();
     for (size_t j = 0; j < pool.size(); ++j) {
       if (target.field(current, target.sample_vertex(pool[j])) > radius) continue;
-      const float cost = anchored_distortion(source_distances, distances.pool_row(j), static_cast<int>(p),
-                                             options.trim_fraction, best_cost, scratch);
+      const float cost = anchored_distortion(source_distances.data(), distances.pool_row(j), anchor_count,
+                                             static_cast<int>(p), options.trim_fraction, best_cost, scratch);
       if (cost < best_cost) best_cost = cost, best = pool[j];
     }
     pairs[p].target_sample = best;
@@ -174,14 +174,12 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
       if (matched[s] || source.sample_step(s) > 2 * level) continue;
       const int sv = source.sample_vertex(s);
       // Parent: the nearest sample matched at an earlier level.
-      const SamplePair* parent = &anchors[0];
-      float parent_distance = std::numeric_limits<float>::max();
-      for (const SamplePair& a : anchors) {
-        const float d = source.field(a.source_sample, sv);
-        if (d < parent_distance) parent_distance = d, parent = &a;
-      }
+      distances_to_anchor_sources(source, anchors, sv, source_distances);
+      const size_t parent_index = static_cast<size_t>(
+          std::min_element(source_distances.begin(), source_distances.end()) - source_distances.begin());
+      const SamplePair* parent = &anchors[parent_index];
+      const float parent_distance = source_distances[parent_index];
       const double window = options.window_factor * parent_distance + radius;
-      distances_to_anchor_sources(source, anchors, anchor_count, sv, source_distances);
       // Passes widen the search when nothing qualifies: near the parent's image and
       // keeping handedness, then near the parent's image, then anywhere.
       std::optional<HandednessGuard> guard;
@@ -194,8 +192,8 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
           const int tv = target.sample_vertex(pool[j]);
           if (pass < 2 && target.field(parent->target_sample, tv) > window) continue;
           if (pass == 0 && !guard->accepts(tv)) continue;
-          const float cost =
-              anchored_distortion(source_distances, distances.pool_row(j), -1, options.trim_fraction, best_cost, scratch);
+          const float cost = anchored_distortion(source_distances.data(), distances.pool_row(j), anchor_count, -1,
+                                                 options.trim_fraction, best_cost, scratch);
           if (cost < best_cost) best_cost = cost, best = pool[j];
         }
       }

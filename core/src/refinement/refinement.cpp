@@ -22,8 +22,9 @@ constexpr size_t kFinishedCandidates = 3;
 // curvature ranks the candidates only roughly: a swapped limb may be 10% below the right
 // map raw and only finishing shows it (SCAPE 000 -> 011); a turned body was more than 13%
 // below the right map raw, so the right map (raw 0.0825) was never finished and the
-// turned one (finished 0.077) won (faust_reg6890 005 -> 006, AVX2 build). The margin keeps a third finishing (1.8 s at 52K) for near ties: michael's
-// 0.63 partial mirror is 20% above the best raw.
+// turned one (finished 0.077) won (faust_reg6890 005 -> 006, AVX2 build). The margin
+// keeps a third finishing (1.8 s at 52K) for near ties: michael's 0.63 partial mirror is
+// 20% above the best raw.
 constexpr size_t kAlwaysFinished = 2;
 constexpr double kFinishedCurvatureMargin = 0.15;
 

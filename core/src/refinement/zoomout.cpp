@@ -37,8 +37,10 @@ std::vector<int> nearest_rows(const RowMatrix& queries, const RowMatrix& points,
     for (int r = 0; r < rows; ++r) {
       scores = products.col(r) + point_norms;
       const float least = scores.minCoeff();
-      const float* found = std::find(scores.data(), scores.data() + scores.size(), least);
-      nearest[begin + r] = found == scores.data() + scores.size() ? 0 : static_cast<int>(found - scores.data());  // NaN
+      const float* first = scores.data();
+      const float* end = first + scores.size();
+      const float* found = std::find(first, end, least);  // not found only for a NaN row
+      nearest[begin + r] = found == end ? 0 : static_cast<int>(found - first);
     }
   });
   return nearest;
