@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <string>
+
 #include "isocorr/geodesic/geodesic_diameter.h"
 #include "isocorr/matching/pipeline.h"
 #include "isocorr/mesh/procedural_meshes.h"
@@ -112,6 +115,25 @@ TEST_F(PartOfBlob, APartMapsOntoItsPlaceAtAnyScaleAndTheRestHasNoCounterpart) {
     EXPECT_LE(deep_matched, 0.1 * deep_total) << cut_kind_name(kind);
     EXPECT_NEAR(result.target_matched_share, part.kept_area, 0.1) << cut_kind_name(kind);
   }
+}
+
+TEST_F(PartOfBlob, APartWithHolesIsMatchedAndTheReportSaysWhichMapWasKept) {
+  // Holes barely move distances or the spectrum: both the part search and the complete
+  // pipeline compete, and the map kept must be a right one.
+  CutSpec spec;
+  spec.kind = CutKind::kHoles;
+  spec.keep_area = 0.8;
+  const PartialShape part = cut_partial_shape(*full_, spec);
+  MatchSettings settings;
+  settings.method = MatchMethod::kPart;
+  settings.threads = 2;
+  const MatchResult result = match_meshes(part.mesh, copy_->mesh, settings);
+  EXPECT_LT(mean_error(part, result.output.forward), 0.03);
+  EXPECT_NEAR(result.part_scale, 1 / 2.5, 0.05);
+  const bool says_which = std::any_of(result.notes.begin(), result.notes.end(), [](const std::string& note) {
+    return note.rfind("part method: the ", 0) == 0 && note.find(" map kept") != std::string::npos;
+  });
+  EXPECT_TRUE(says_which);
 }
 
 TEST_F(PartOfBlob, CompleteShapesStillMatchAsParts) {

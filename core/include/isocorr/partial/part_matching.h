@@ -13,8 +13,9 @@
 //    are half the best by step 1 and half the best screened.
 // 3. Each candidate's source samples are matched coarse to fine to target samples against
 //    all pairs matched before (near the parent's image, handedness kept, at its kappa
-//    re-estimated from trusted matches), extended to every vertex, and the map keeping
-//    face handedness best, then of least distortion, wins (symmetric flips).
+//    re-estimated from trusted matches) and extended to every vertex; among the maps that
+//    keep face handedness (symmetric flips do not), the one whose smoothed curvature agrees
+//    best wins (dense_choice.h).
 // 4. The winner's anchors move to vertex accuracy; every source vertex is matched by
 //    descent of their weighted mismatch; a target vertex gets a source vertex only where
 //    the part's image covers it (-1 elsewhere).
@@ -34,5 +35,24 @@ namespace isocorr {
 // vertices; dense.reverse holds -1 for target vertices outside the part's image.
 DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& target, const MatchSettings& settings,
                     MatchResult& result, const JobControl& control);
+
+// Evidence on which dense maps of a part compete, whatever made them: the part search
+// above, or the complete-shape pipeline (a part that lost only holes or a hand is matched
+// best as if it were whole; one that lost half its area is not).
+struct PartMapEvidence {
+  double orientation = 0;  // fraction of source faces whose image keeps handedness
+  double distortion = 0;   // boundary-aware mean mismatch over sample pairs, / source diameter
+  double scale = 1;        // kappa of the map: median source/target ratio of exact distances
+  double curvature = 0;    // smoothed curvature disagreement (dense_choice.h)
+};
+
+// Costs kPartEvidenceSources fast-marching fields on the target. `forward` in clean numbering.
+PartMapEvidence measure_part_map(const PreprocessedShape& source, const PreprocessedShape& target,
+                                 const std::vector<int>& forward, int threads);
+
+// Fills dense.reverse (and reverse_diso) from dense.forward: target vertices near an image
+// take the source vertex of the nearest one, the rest -1 (no counterpart).
+void add_part_reverse_map(const PreprocessedShape& source, const PreprocessedShape& target, double scale,
+                          DenseMap& dense);
 
 }  // namespace isocorr

@@ -32,7 +32,7 @@ struct MatchSettings {
   // Part matching: source extremities matched combinatorially (paper: M = 5), and the best
   // extremity maps grown to sample maps, one of which is chosen (symmetric flips).
   int part_extremities = 5;
-  int part_candidates = 16;  // half by extremity distortion, half by screening (part_matching.cpp)
+  int part_candidates = 32;  // half by extremity distortion, half by screening (part_matching.cpp)
   // M (paper: up to 8). 0 = automatic: the number of extremities of the source, within
   // [5, 7]. Samples beyond the extremities are poorly aligned between two meshes and
   // mislead tracking: on 12 SCAPE pairs M = 5 gave 75% flip-free against 58% for M = 7,
