@@ -122,13 +122,25 @@ DenseMap match_complete(const PreprocessedShape& source, const PreprocessedShape
 // pipeline's map, as the part search's maps are fitted to that very measure.
 DenseMap match_part_or_whole(const PreprocessedShape& source, const PreprocessedShape& target,
                              const MatchSettings& settings, MatchResult& result, const JobControl& control) {
-  DenseMap part = match_part(source, target, settings, result, control);
+  // The two share the match's progress: the part search its first half, the complete
+  // pipeline the second (each reports fractions of its own run).
+  auto share_of = [&control](double from, double span) {
+    JobControl shared = control;
+    if (control.on_progress)
+      shared.on_progress = [&control, from, span](const Progress& p) {
+        Progress scaled = p;
+        scaled.fraction = from + span * p.fraction;
+        control.report(scaled);
+      };
+    return shared;
+  };
+  DenseMap part = match_part(source, target, settings, result, share_of(0, 0.5));
   const int threads = resolve_thread_count(settings.threads);
   const PartMapEvidence part_evidence = measure_part_map(source, target, part.forward, threads);
   MatchResult whole_result;
   DenseMap whole;
   try {
-    whole = match_complete(source, target, settings, whole_result, control);
+    whole = match_complete(source, target, settings, whole_result, share_of(0.5, 0.5));
   } catch (const InputError& e) {
     result.notes.push_back(std::string("part method: the part search's map kept; the complete pipeline failed: ") +
                            e.what());
