@@ -135,8 +135,6 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
     return shared;
   };
   DenseMap part = match_part(source, target, settings, result, share_of(0, 0.5));
-  const int threads = resolve_thread_count(settings.threads);
-  const PartMapEvidence part_evidence = measure_part_map(source, target, part.forward, threads);
   MatchResult whole_result;
   DenseMap whole;
   try {
@@ -146,7 +144,10 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
                            e.what());
     return part;
   }
-  const PartMapEvidence whole_evidence = measure_part_map(source, target, whole.forward, threads);
+  const std::vector<PartMapEvidence> evidence =
+      measure_part_maps(source, target, {&part.forward, &whole.forward}, resolve_thread_count(settings.threads));
+  const PartMapEvidence& part_evidence = evidence[0];
+  const PartMapEvidence& whole_evidence = evidence[1];
   // A mirrored map reverses most faces; among maps on the same side of that line the
   // smaller curvature disagreement wins.
   const bool part_upright = part_evidence.orientation >= settings.orientation_threshold;

@@ -33,7 +33,7 @@ constexpr int kScreenLastStep = 2;
 // A sample's image lies within this many times its distance to its parent, around the
 // parent's image (the tracker's window_factor).
 constexpr float kWindowFactor = 2.0f;
-// Fields on the target per dense map weighed by measure_part_map (as the complete pipeline's
+// Fields on the target per dense map weighed by measure_part_maps (as the complete pipeline's
 // dense choice: 16 spread samples against all give a stable mean).
 constexpr int kPartEvidenceSources = 16;
 
@@ -549,10 +549,11 @@ void add_part_reverse_map(const PreprocessedShape& source, const PreprocessedSha
     if (d != kUnreached) d /= static_cast<float>(target.diameter());
 }
 
+namespace {
 
-PartMapEvidence measure_part_map(const PreprocessedShape& source, const PreprocessedShape& target,
-                                 const std::vector<int>& forward, int threads) {
-  const PartGeometry part{source, distance_to_boundary(source)};
+PartMapEvidence measure_with(const PartGeometry& part, const PreprocessedShape& target, const std::vector<int>& forward,
+                             int threads) {
+  const PreprocessedShape& source = part.shape;
   PartMapEvidence evidence;
   evidence.orientation =
       dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(), target.normals(), forward);
@@ -562,17 +563,20 @@ PartMapEvidence measure_part_map(const PreprocessedShape& source, const Preproce
   const int sources = std::min(samples, kPartEvidenceSources);
   std::vector<std::vector<float>> source_distance(sources, std::vector<float>(samples)),
       target_distance(sources, std::vector<float>(samples));
+  std::vector<std::vector<char>> exact(sources, std::vector<char>(samples));
   parallel_for(sources, threads, [&](int a, int) {
     const std::vector<float> field = target.geodesics().distance_field(forward[source.sample_vertex(a)]);
     for (int b = 0; b < samples; ++b) {
-      source_distance[a][b] = part.distance(a, source.sample_vertex(b));
-      target_distance[a][b] = field[forward[source.sample_vertex(b)]];
+      const int v = source.sample_vertex(b);
+      source_distance[a][b] = part.distance(a, v);
+      target_distance[a][b] = field[forward[v]];
+      exact[a][b] = part.exact(a, v, source_distance[a][b]);
     }
   });
   std::vector<double> ratios;
   for (int a = 0; a < sources; ++a)
     for (int b = 0; b < samples; ++b)
-      if (b != a && target_distance[a][b] > 0 && part.exact(a, source.sample_vertex(b), source_distance[a][b]))
+      if (b != a && target_distance[a][b] > 0 && exact[a][b])
         ratios.push_back(source_distance[a][b] / target_distance[a][b]);
   if (!ratios.empty()) {
     std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
@@ -581,15 +585,23 @@ PartMapEvidence measure_part_map(const PreprocessedShape& source, const Preproce
   double sum = 0;
   long count = 0;
   for (int a = 0; a < sources; ++a)
-    for (int b = 0; b < samples; ++b) {
-      if (b == a) continue;
-      const float gs = source_distance[a][b];
-      sum += mismatch(gs, static_cast<float>(evidence.scale * target_distance[a][b]),
-                      part.exact(a, source.sample_vertex(b), gs));
-      ++count;
-    }
+    for (int b = 0; b < samples; ++b)
+      if (b != a) {
+        sum += mismatch(source_distance[a][b], static_cast<float>(evidence.scale * target_distance[a][b]), exact[a][b]);
+        ++count;
+      }
   evidence.distortion = count ? sum / count / source.diameter() : 0.0;
   evidence.curvature = curvature_disagreement(source, target, forward);
+  return evidence;
+}
+
+}  // namespace
+
+std::vector<PartMapEvidence> measure_part_maps(const PreprocessedShape& source, const PreprocessedShape& target,
+                                               const std::vector<const std::vector<int>*>& forwards, int threads) {
+  const PartGeometry part{source, distance_to_boundary(source)};
+  std::vector<PartMapEvidence> evidence;
+  for (const std::vector<int>* forward : forwards) evidence.push_back(measure_with(part, target, *forward, threads));
   return evidence;
 }
 

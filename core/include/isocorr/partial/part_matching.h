@@ -46,9 +46,10 @@ struct PartMapEvidence {
   double curvature = 0;    // smoothed curvature disagreement (dense_choice.h)
 };
 
-// Costs kPartEvidenceSources fast-marching fields on the target. `forward` in clean numbering.
-PartMapEvidence measure_part_map(const PreprocessedShape& source, const PreprocessedShape& target,
-                                 const std::vector<int>& forward, int threads);
+// One evidence per forward map (clean numbering), in order; the part's boundary distances
+// are computed once. Costs kPartEvidenceSources fast-marching fields on the target per map.
+std::vector<PartMapEvidence> measure_part_maps(const PreprocessedShape& source, const PreprocessedShape& target,
+                                               const std::vector<const std::vector<int>*>& forwards, int threads);
 
 // Fills dense.reverse (and reverse_diso) from dense.forward: target vertices near an image
 // take the source vertex of the nearest one, the rest -1 (no counterpart).
