@@ -56,7 +56,7 @@ int match_locally(const MatchJobFiles& args) {
                  out.forward.size(), out.reverse.size(), seconds, result.diso, result.tracked.size(),
                  result.level0.size(), result.tracked[result.chosen].level0_rank + 1,
                  result.tracked[result.chosen].orientation, args.output);
-    if (args.settings.method == MatchMethod::kPart)
+    if (args.settings.method != MatchMethod::kFull)
       spdlog::info("part matching: {:.1f}% of the target's area matched (reverse map -1 elsewhere), part scale {:.3f}",
                    100 * result.target_matched_share, result.part_scale);
     return kExitOk;

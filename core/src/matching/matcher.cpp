@@ -189,7 +189,7 @@ double matched_area_share(const PreprocessedShape& target, const std::vector<int
 MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShape& target,
                          const MatchSettings& settings, const JobControl& control) {
   MatchResult result;
-  const DenseMap dense = settings.method == MatchMethod::kPart
+  const DenseMap dense = settings.method != MatchMethod::kFull
                              ? match_part_or_whole(source, target, settings, result, control)
                              : match_complete(source, target, settings, result, control);
 
@@ -227,7 +227,7 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
                                  ? dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
                                                              target.normals(), dense.forward)
                                  : result.refined[result.refined_chosen].evidence.orientation;
-  if (settings.method == MatchMethod::kPart) result.target_matched_share = matched_area_share(target, dense.reverse);
+  if (settings.method != MatchMethod::kFull) result.target_matched_share = matched_area_share(target, dense.reverse);
   for (const auto& note : sc.repairs) result.notes.push_back("source: " + note);
   for (const auto& note : tc.repairs) result.notes.push_back("target: " + note);
   control.report({"done", 1, 1, 1.0});

@@ -63,7 +63,7 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
                      {"orientation", result.dense_orientation},
                      {"source_vertices", result.output.forward.size()},
                      {"target_vertices", result.output.reverse.size()}};
-  if (settings.method == MatchMethod::kPart) {
+  if (settings.method != MatchMethod::kFull) {
     long matched = 0;
     for (int s : result.output.reverse) matched += s >= 0;
     // The reverse map has -1 where the target has no counterpart in the part.

@@ -11,13 +11,12 @@
 #include "isocorr/refinement/dense_choice.h"
 #include "isocorr/util/error.h"
 #include "isocorr/util/parallel.h"
+#include "part_geometry.h"
+#include "ravac.h"
 
 namespace isocorr {
 namespace {
 
-// Extremity samples this close to the boundary (fraction of the part's diameter, the
-// saliency's extremity radius) are the rim of a cut, not a tip of the shape.
-constexpr double kRimBand = 0.08;
 // Terms of a sample's cost above this quantile are ignored: robust to a few misplaced pairs.
 constexpr double kTrimmedShare = 0.2;
 // Dense anchors weigh 1 / (distance + kLocality): near pairs count more (as the C2F dense level).
@@ -37,106 +36,13 @@ constexpr float kWindowFactor = 2.0f;
 // dense choice: 16 spread samples against all give a stable mean).
 constexpr int kPartEvidenceSources = 16;
 
-// Distances of a part in raw units, with the test for which of them are the full shape's.
-struct PartGeometry {
-  const PreprocessedShape& shape;
-  std::vector<float> boundary_distance;  // raw; +inf on a closed part
-
-  // Raw geodesic distance from sample i to vertex v.
-  float distance(int sample, int v) const { return shape.field(sample, v) * static_cast<float>(shape.diameter()); }
-  // True when the part's distance between sample i and vertex v is the full shape's.
-  bool exact(int sample, int v, float d) const {
-    return d < boundary_distance[shape.sample_vertex(sample)] + boundary_distance[v];
-  }
-};
-
-std::vector<float> distance_to_boundary(const PreprocessedShape& shape) {
-  const TriangleMesh& mesh = shape.mesh();
-  // An edge used by one face only lies on the boundary; count each undirected edge's faces.
-  std::vector<std::pair<int, int>> edges;
-  for (const Face& f : mesh.faces)
-    for (int c = 0; c < 3; ++c) edges.emplace_back(std::minmax(f[c], f[(c + 1) % 3]));
-  std::sort(edges.begin(), edges.end());
-  std::vector<int> boundary;
-  for (size_t i = 0; i < edges.size();) {
-    size_t j = i;
-    while (j < edges.size() && edges[j] == edges[i]) ++j;
-    if (j - i == 1) boundary.push_back(edges[i].first), boundary.push_back(edges[i].second);
-    i = j;
-  }
-  if (boundary.empty()) return std::vector<float>(mesh.num_vertices(), kUnreached);
-  std::sort(boundary.begin(), boundary.end());
-  boundary.erase(std::unique(boundary.begin(), boundary.end()), boundary.end());
-  FastMarching::Workspace workspace;
-  shape.geodesics().compute(boundary, workspace);
-  return workspace.distance;
-}
-
-// Mismatch of a source distance and a target distance already at the source's scale.
-inline float mismatch(float source_distance, float target_distance, bool exact) {
-  const float gap = target_distance - source_distance;
-  return exact ? std::abs(gap) : std::max(gap, 0.0f);
-}
-
-// Step 1: the source's points for the combinatorial search: its extremity samples away
-// from its boundary, best first. A part with fewer than 3 (half a body may keep only a leg)
-// takes further samples away from the boundary; these are not extremities, so the target
-// then offers its finer samples too (`offer_finer_targets`).
-std::vector<int> source_search_samples(const PartGeometry& part, int wanted, bool& offer_finer_targets) {
-  const PreprocessedShape& s = part.shape;
-  const float band = static_cast<float>(kRimBand * s.diameter());
-  const std::vector<int>& extremities = s.saliency().extremities;
-  auto away = [&](int i) { return part.boundary_distance[s.sample_vertex(i)] >= band; };
-  std::vector<int> chosen;
-  for (int i = 0; i < s.num_level0_samples() && static_cast<int>(chosen.size()) < wanted; ++i)
-    if (away(i) && std::find(extremities.begin(), extremities.end(), s.sample_vertex(i)) != extremities.end())
-      chosen.push_back(i);
-  offer_finer_targets = chosen.size() < 3;
-  for (int i = 0; i < s.num_samples() && chosen.size() < 3; ++i)
-    if (away(i) && std::find(chosen.begin(), chosen.end(), i) == chosen.end()) chosen.push_back(i);
-  if (chosen.size() < 3) throw InputError("the part has fewer than 3 samples away from its boundary to match");
-  return chosen;
-}
-
-struct RankedMap {
-  std::vector<int> target_of;  // target sample per source extremity
-  double distortion = 0;       // scale-invariant
-  double scale = 1;            // kappa: source distance per target distance
-};
-
-// The paper's scale-invariant distortion, made boundary-aware: the scale kappa is the mean
-// source/target ratio over the exact pairs, and each pair adds its relative mismatch at
-// that scale (one-sided where the source distance is only an upper bound). The paper's
-// ratio-spread form over exact pairs alone leaves an extremity free whenever a cut makes
-// all its distances inexact, so maps differing only there tie.
-double scale_invariant_distortion(const std::vector<std::vector<double>>& gs, const Eigen::MatrixXd& gt,
-                                  const std::vector<std::vector<char>>& exact, const std::vector<int>& target_of,
-                                  double& scale) {
-  const int m = static_cast<int>(target_of.size());
-  double ratio_sum = 0, least_ratio = std::numeric_limits<double>::max();
-  int ratios = 0;
-  for (int i = 0; i < m; ++i)
-    for (int a = i + 1; a < m; ++a) {
-      const double r = gs[i][a] / std::max(gt(target_of[i], target_of[a]), 1e-12);
-      if (exact[i][a]) ratio_sum += r, ++ratios;
-      else least_ratio = std::min(least_ratio, r);
-    }
-  // Without exact pairs every ratio only bounds kappa from above (a cut lengthens source
-  // distances); the tightest bound is the best guess.
-  scale = ratios ? ratio_sum / ratios : least_ratio;
-  double sum = 0;
-  for (int i = 0; i < m; ++i)
-    for (int a = i + 1; a < m; ++a)
-      sum += mismatch(static_cast<float>(gs[i][a]), static_cast<float>(scale * gt(target_of[i], target_of[a])),
-                      exact[i][a]) /
-             std::max(gs[i][a], 1e-12);
-  return sum / std::max(1, m * (m - 1) / 2);
-}
-
-std::vector<RankedMap> rank_extremity_maps(const PartGeometry& part, const PreprocessedShape& target,
-                                           const std::vector<int>& source_samples, int target_count, int keep) {
+// Step 1: every injective map of the source's points to the first `target_count` target
+// samples, by scale-invariant distortion; maps with kappa below `min_scale` are dropped.
+std::vector<ExtremityMap> rank_extremity_maps(const PartGeometry& part, const std::vector<int>& source_samples,
+                                              int target_count, double min_scale, int keep) {
   const int m = static_cast<int>(source_samples.size());
   const PreprocessedShape& source = part.shape;
+  const PreprocessedShape& target = part.target;
   std::vector<std::vector<double>> gs(m, std::vector<double>(m));
   const Eigen::MatrixXd gt = sample_distances(target, target_count) * target.diameter();
   std::vector<std::vector<char>> exact(m, std::vector<char>(m));
@@ -147,19 +53,22 @@ std::vector<RankedMap> rank_extremity_maps(const PartGeometry& part, const Prepr
       gs[i][j] = d;
       exact[i][j] = part.exact(source_samples[i], vj, d);
     }
-  // The part is a piece of the target scaled by kappa, so its area is at most kappa^2 times
-  // the target's: a smaller kappa cannot be right.
-  const double min_scale = kAreaSlack * std::sqrt(source.area() / target.area());
+  std::vector<std::vector<char>> target_exact(target_count, std::vector<char>(target_count));
+  for (int i = 0; i < target_count; ++i)
+    for (int j = 0; j < target_count; ++j)
+      target_exact[i][j] =
+          part.target_exact(target.sample_vertex(i), target.sample_vertex(j), static_cast<float>(gt(i, j)));
 
-  std::vector<RankedMap> maps;
+  std::vector<ExtremityMap> maps;
   std::vector<int> target_of(m);
   std::vector<char> used(target_count, 0);
   // Depth-first over injective assignments (at most 9P5 = 15120 for the defaults).
   std::function<void(int)> assign = [&](int depth) {
     if (depth == m) {
-      RankedMap map;
-      map.target_of = target_of;
-      map.distortion = scale_invariant_distortion(gs, gt, exact, target_of, map.scale);
+      ExtremityMap map;
+      map.source_samples = source_samples;
+      map.target_samples = target_of;
+      map.distortion = scale_invariant_distortion(gs, gt, exact, target_exact, target_of, map.scale);
       if (map.scale >= min_scale) maps.push_back(std::move(map));
       return;
     }
@@ -172,7 +81,7 @@ std::vector<RankedMap> rank_extremity_maps(const PartGeometry& part, const Prepr
   };
   assign(0);
   std::stable_sort(maps.begin(), maps.end(),
-                   [](const RankedMap& a, const RankedMap& b) { return a.distortion < b.distortion; });
+                   [](const ExtremityMap& a, const ExtremityMap& b) { return a.distortion < b.distortion; });
   if (static_cast<int>(maps.size()) > keep) maps.resize(keep);
   return maps;
 }
@@ -187,8 +96,8 @@ float trimmed_mean(std::vector<float>& terms) {
   return static_cast<float>(sum / kept);
 }
 
-// Calls visit(source distance, raw target distance, exact) for every pair of pairs of a
-// sample map.
+// Calls visit(source distance, raw target distance, source exact, target exact) for every
+// pair of pairs of a sample map.
 template <class Visit>
 void for_each_pair_of_pairs(const PartGeometry& part, const PreprocessedShape& target,
                             const std::vector<SamplePair>& pairs, Visit visit) {
@@ -196,9 +105,9 @@ void for_each_pair_of_pairs(const PartGeometry& part, const PreprocessedShape& t
     for (size_t j = i + 1; j < pairs.size(); ++j) {
       const int sv = part.shape.sample_vertex(pairs[j].source_sample);
       const float gs = part.distance(pairs[i].source_sample, sv);
-      const double gt =
-          target.field(pairs[i].target_sample, target.sample_vertex(pairs[j].target_sample)) * target.diameter();
-      visit(gs, gt, part.exact(pairs[i].source_sample, sv, gs));
+      const int ta = target.sample_vertex(pairs[i].target_sample), tb = target.sample_vertex(pairs[j].target_sample);
+      const double gt = target.field(pairs[i].target_sample, tb) * target.diameter();
+      visit(gs, gt, part.exact(pairs[i].source_sample, sv, gs), part.target_exact(ta, tb, static_cast<float>(gt)));
     }
 }
 
@@ -207,8 +116,8 @@ void for_each_pair_of_pairs(const PartGeometry& part, const PreprocessedShape& t
 double scale_from_exact_pairs(const PartGeometry& part, const PreprocessedShape& target,
                               const std::vector<SamplePair>& pairs, double fallback) {
   std::vector<double> ratios;
-  for_each_pair_of_pairs(part, target, pairs, [&](float gs, double gt, bool exact) {
-    if (gt > 0 && exact) ratios.push_back(gs / gt);
+  for_each_pair_of_pairs(part, target, pairs, [&](float gs, double gt, bool exact, bool target_exact) {
+    if (gt > 0 && exact && target_exact) ratios.push_back(gs / gt);
   });
   if (ratios.empty()) return fallback;
   std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
@@ -223,8 +132,8 @@ double map_distortion(const PartGeometry& part, const PreprocessedShape& target,
                       double scale) {
   double sum = 0;
   long count = 0;
-  for_each_pair_of_pairs(part, target, pairs, [&](float gs, double gt, bool exact) {
-    sum += mismatch(gs, static_cast<float>(gt * scale), exact);
+  for_each_pair_of_pairs(part, target, pairs, [&](float gs, double gt, bool exact, bool target_exact) {
+    sum += mismatch(gs, static_cast<float>(gt * scale), exact, target_exact);
     ++count;
   });
   return count ? sum / count / part.shape.diameter() : 0.0;
@@ -232,9 +141,8 @@ double map_distortion(const PartGeometry& part, const PreprocessedShape& target,
 
 // Step 3: source samples of schedule steps up to `last_step` matched coarse to fine to
 // target samples, each against every pair matched before it.
-TrackedMap grow_sample_map(const PartGeometry& part, const PreprocessedShape& target,
-                           const std::vector<int>& extremities, const RankedMap& start, int rank, int last_step,
-                           double& grown_scale, const JobControl& control) {
+TrackedMap grow_sample_map(const PartGeometry& part, const PreprocessedShape& target, const ExtremityMap& start,
+                           int rank, int last_step, double& grown_scale, const JobControl& control) {
   const PreprocessedShape& source = part.shape;
   const float scale = static_cast<float>(start.scale);
   const float target_diameter = static_cast<float>(target.diameter());
@@ -242,9 +150,9 @@ TrackedMap grow_sample_map(const PartGeometry& part, const PreprocessedShape& ta
   tracked.level0_rank = rank;
   tracked.level0_diso = start.distortion;
   std::vector<char> matched(source.num_samples(), 0);
-  for (size_t i = 0; i < extremities.size(); ++i) {
-    tracked.pairs.push_back({extremities[i], start.target_of[i], 0.0f, -1});
-    matched[extremities[i]] = 1;
+  for (size_t i = 0; i < start.source_samples.size(); ++i) {
+    tracked.pairs.push_back({start.source_samples[i], start.target_samples[i], 0.0f, -1});
+    matched[start.source_samples[i]] = 1;
   }
   std::vector<float> terms;
   for (int s = 0; s < source.num_samples(); ++s) {
@@ -268,8 +176,9 @@ TrackedMap grow_sample_map(const PartGeometry& part, const PreprocessedShape& ta
       terms.clear();
       for (const SamplePair& p : tracked.pairs) {
         const float gs = part.distance(p.source_sample, sv);
-        const float gt = target.field(p.target_sample, tv) * target_diameter * scale;
-        terms.push_back(mismatch(gs, gt, part.exact(p.source_sample, sv, gs)));
+        const float gt = target.field(p.target_sample, tv) * target_diameter;
+        terms.push_back(mismatch(gs, gt * scale, part.exact(p.source_sample, sv, gs),
+                                 part.target_exact(target.sample_vertex(p.target_sample), tv, gt)));
       }
       const float cost = trimmed_mean(terms);
       if (cost < best && guard.accepts(tv)) best = cost, best_target = t;
@@ -333,7 +242,8 @@ TargetAnchors vertex_accurate_anchors(const PartGeometry& part, const Preprocess
   const int count = static_cast<int>(pairs.size());
   anchors.vertex.resize(count);
   anchors.computed_fields.resize(count);
-  const float target_scale = static_cast<float>(target.diameter() * scale);
+  const float target_diameter = static_cast<float>(target.diameter());
+  const float scale_f = static_cast<float>(scale);
   parallel_for(count, threads, [&](int q, int) {
     control.check_cancelled();
     const int sv = part.shape.sample_vertex(pairs[q].source_sample);
@@ -346,8 +256,12 @@ TargetAnchors vertex_accurate_anchors(const PartGeometry& part, const Preprocess
     std::vector<float> terms;
     auto cost = [&](int t) {
       terms.clear();
-      for (int p = 0; p < count; ++p)
-        if (p != q) terms.push_back(mismatch(gs[p], target.field(pairs[p].target_sample, t) * target_scale, exact[p]));
+      for (int p = 0; p < count; ++p) {
+        if (p == q) continue;
+        const float gt = target.field(pairs[p].target_sample, t) * target_diameter;
+        terms.push_back(mismatch(gs[p], gt * scale_f, exact[p],
+                                 part.target_exact(target.sample_vertex(pairs[p].target_sample), t, gt)));
+      }
       return trimmed_mean(terms);
     };
     float best = 0;
@@ -367,7 +281,7 @@ DenseMap dense_part_map(const PartGeometry& part, const PreprocessedShape& targe
                         const JobControl& control) {
   const PreprocessedShape& source = part.shape;
   const int source_vertices = source.mesh().num_vertices();
-  const float target_scale = static_cast<float>(anchors.row_scale * scale);
+  const float scale_f = static_cast<float>(scale);
   const float source_diameter = static_cast<float>(source.diameter());
   const auto& pairs = chosen.pairs;
   DenseMap dense;
@@ -389,7 +303,8 @@ DenseMap dense_part_map(const PartGeometry& part, const PreprocessedShape& targe
     auto cost = [&](int t) {
       double sum = 0, total = 0;
       for (size_t a = 0; a < pairs.size(); ++a) {
-        sum += weight[a] * mismatch(gs[a], anchors.rows[a][t] * target_scale, exact[a]);
+        const float gt = anchors.rows[a][t] * anchors.row_scale;
+        sum += weight[a] * mismatch(gs[a], gt * scale_f, exact[a], part.target_exact(anchors.vertex[a], t, gt));
         total += weight[a];
       }
       return static_cast<float>(sum / total);
@@ -413,16 +328,17 @@ DenseMap dense_part_map(const PartGeometry& part, const PreprocessedShape& targe
   return dense;
 }
 
-}  // namespace
-
-DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& target, const MatchSettings& settings,
-                    MatchResult& result, const JobControl& control) {
-  StageClock clock(result.timings);
-  const PartGeometry part{source, distance_to_boundary(source)};
-
-  control.report({"part-extremities", 0, 2, 0.0});
+// Steps 1 and 2 of the part search (the source is a part of the target): the candidates,
+// with kappa from their screened maps. `ranks` gets each one's rank by extremity distortion.
+std::vector<ExtremityMap> part_search_candidates(const PartGeometry& part, const MatchSettings& settings, int threads,
+                                                 MatchResult& result, std::vector<int>& ranks,
+                                                 const JobControl& control) {
+  const PreprocessedShape& source = part.shape;
+  const PreprocessedShape& target = part.target;
   bool offer_finer_targets = false;
-  const std::vector<int> extremities = source_search_samples(part, settings.part_extremities, offer_finer_targets);
+  const std::vector<int> extremities =
+      search_samples(source, part.boundary_distance, static_cast<float>(kRimBand * source.diameter()),
+                     settings.part_extremities, offer_finer_targets);
   // Targets: the level-0 samples (extremities first), or the samples of the first
   // half-levels when the part's points are not all extremities.
   constexpr int kFinerTargets = 20;
@@ -431,22 +347,23 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   if (target_count < static_cast<int>(extremities.size()))
     throw InputError("the target has fewer level-0 samples (" + std::to_string(target_count) +
                      ") than the part's extremities (" + std::to_string(extremities.size()) + ")");
-  const std::vector<RankedMap> all_maps =
-      rank_extremity_maps(part, target, extremities, target_count, kScreenedMaps);
+  // The part is a piece of the target scaled by kappa, so its area is at most kappa^2 times
+  // the target's: a smaller kappa cannot be right.
+  const double min_scale = kAreaSlack * std::sqrt(source.area() / target.area());
+  const std::vector<ExtremityMap> all_maps =
+      rank_extremity_maps(part, extremities, target_count, min_scale, kScreenedMaps);
   if (all_maps.empty())
     throw InputError("no extremity map is consistent with the part's area: is the source a part of the target?");
-  for (const auto& map : all_maps) result.level0.push_back({map.target_of, map.distortion});
-  clock.finish("part-extremities");
+  for (const auto& map : all_maps) result.level0.push_back({map.target_samples, map.distortion});
 
   // Screening: with few extremities, or distances all lengthened by the cut, many
   // extremity maps are equally consistent; matching the first levels' samples (steps <= 2)
   // against each tells them apart at a fraction of a full growth's cost.
   control.report({"part-screening", 1, 2, 0.1});
-  const int threads = resolve_thread_count(settings.threads);
   std::vector<TrackedMap> screened(all_maps.size());
   std::vector<double> screened_scale(all_maps.size());
   parallel_for(static_cast<int>(all_maps.size()), threads, [&](int i, int) {
-    screened[i] = grow_sample_map(part, target, extremities, all_maps[i], i, kScreenLastStep, screened_scale[i], control);
+    screened[i] = grow_sample_map(part, target, all_maps[i], i, kScreenLastStep, screened_scale[i], control);
   });
   // Candidates: half the best by extremity distortion (right when the extremities pin the
   // map down), half the best screened (right when they tie), each map once.
@@ -454,18 +371,42 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   std::iota(by_screening.begin(), by_screening.end(), 0);
   std::stable_sort(by_screening.begin(), by_screening.end(),
                    [&](int a, int b) { return screened[a].diso < screened[b].diso; });
-  std::vector<int> order;
+  ranks.clear();
   const size_t wanted = std::min<size_t>(all_maps.size(), settings.part_candidates);
-  for (size_t k = 0; order.size() < wanted; ++k) {
+  for (size_t k = 0; ranks.size() < wanted; ++k) {
     for (int i : {static_cast<int>(k), by_screening[k]})  // all_maps is sorted by D already
-      if (order.size() < wanted && std::find(order.begin(), order.end(), i) == order.end()) order.push_back(i);
+      if (ranks.size() < wanted && std::find(ranks.begin(), ranks.end(), i) == ranks.end()) ranks.push_back(i);
   }
-  std::vector<RankedMap> maps;
-  for (int i : order) {
+  std::vector<ExtremityMap> maps;
+  for (int i : ranks) {
     maps.push_back(all_maps[i]);
     maps.back().scale = screened_scale[i];  // kappa from the screened map's exact distances
   }
-  clock.finish("part-screening");
+  return maps;
+}
+
+}  // namespace
+
+DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& target, const MatchSettings& settings,
+                    MatchResult& result, const JobControl& control) {
+  StageClock clock(result.timings);
+  const PartGeometry part(source, target);
+  const int threads = resolve_thread_count(settings.threads);
+
+  control.report({"part-extremities", 0, 2, 0.0});
+  std::vector<int> ranks;
+  std::vector<ExtremityMap> maps;
+  if (settings.method == MatchMethod::kRavac) {
+    maps = ravac_extremity_maps(part, settings.part_candidates, threads, result.notes, control);
+    for (size_t i = 0; i < maps.size(); ++i) {
+      ranks.push_back(static_cast<int>(i));
+      result.level0.push_back({maps[i].target_samples, maps[i].distortion});
+    }
+    clock.finish("ravac");
+  } else {
+    maps = part_search_candidates(part, settings, threads, result, ranks, control);
+    clock.finish("part-candidates");  // extremity maps and their screening
+  }
 
   control.report({"part-tracking", 1, 2, 0.3});
   result.tracked.resize(maps.size());
@@ -473,7 +414,7 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   std::atomic<int> done{0};
   const int last_step = 2 * source.options().decision_level;
   parallel_for(static_cast<int>(maps.size()), threads, [&](int i, int) {
-    result.tracked[i] = grow_sample_map(part, target, extremities, maps[i], order[i], last_step, scales[i], control);
+    result.tracked[i] = grow_sample_map(part, target, maps[i], ranks[i], last_step, scales[i], control);
     control.report({"part-tracking", 1, 2, 0.3 + 0.4 * (++done) / maps.size()});
   });
   clock.finish("part-tracking");
@@ -482,12 +423,14 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   // (sample triangles are too coarse to show it), so dense orientation drops mirrors and
   // the rank among the rest follows the sample maps' distortion.
   control.report({"part-dense", 2, 2, 0.7});
-  const std::vector<int> visit_order = breadth_first_order(source, source.sample_vertex(extremities.front()));
   std::vector<DenseMap> dense(maps.size());
   std::vector<double> curvature(maps.size());
+  auto visit_order = [&](const ExtremityMap& map) {
+    return breadth_first_order(source, source.sample_vertex(map.source_samples.front()));
+  };
   parallel_for(static_cast<int>(maps.size()), threads, [&](int i, int) {
     dense[i] = dense_part_map(part, target, result.tracked[i], sample_anchors(target, result.tracked[i].pairs),
-                              scales[i], visit_order, control);
+                              scales[i], visit_order(maps[i]), control);
     result.tracked[i].orientation = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
                                                                 target.normals(), dense[i].forward);
     curvature[i] = curvature_disagreement(source, target, dense[i].forward);
@@ -506,7 +449,8 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   const TrackedMap& winner = result.tracked[result.chosen];
   const TargetAnchors anchors =
       vertex_accurate_anchors(part, target, winner.pairs, scales[result.chosen], threads, control);
-  DenseMap chosen = dense_part_map(part, target, winner, anchors, scales[result.chosen], visit_order, control);
+  DenseMap chosen =
+      dense_part_map(part, target, winner, anchors, scales[result.chosen], visit_order(maps[result.chosen]), control);
   add_part_reverse_map(source, target, scales[result.chosen], chosen);
   clock.finish("part-dense");
   result.part_scale = scales[result.chosen];
@@ -551,9 +495,9 @@ void add_part_reverse_map(const PreprocessedShape& source, const PreprocessedSha
 
 namespace {
 
-PartMapEvidence measure_with(const PartGeometry& part, const PreprocessedShape& target, const std::vector<int>& forward,
-                             int threads) {
+PartMapEvidence measure_with(const PartGeometry& part, const std::vector<int>& forward, int threads) {
   const PreprocessedShape& source = part.shape;
+  const PreprocessedShape& target = part.target;
   PartMapEvidence evidence;
   evidence.orientation =
       dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(), target.normals(), forward);
@@ -563,7 +507,8 @@ PartMapEvidence measure_with(const PartGeometry& part, const PreprocessedShape& 
   const int sources = std::min(samples, kPartEvidenceSources);
   std::vector<std::vector<float>> source_distance(sources, std::vector<float>(samples)),
       target_distance(sources, std::vector<float>(samples));
-  std::vector<std::vector<char>> exact(sources, std::vector<char>(samples));
+  std::vector<std::vector<char>> exact(sources, std::vector<char>(samples)),
+      target_exact(sources, std::vector<char>(samples));
   parallel_for(sources, threads, [&](int a, int) {
     const std::vector<float> field = target.geodesics().distance_field(forward[source.sample_vertex(a)]);
     for (int b = 0; b < samples; ++b) {
@@ -571,12 +516,13 @@ PartMapEvidence measure_with(const PartGeometry& part, const PreprocessedShape& 
       source_distance[a][b] = part.distance(a, v);
       target_distance[a][b] = field[forward[v]];
       exact[a][b] = part.exact(a, v, source_distance[a][b]);
+      target_exact[a][b] = part.target_exact(forward[source.sample_vertex(a)], forward[v], target_distance[a][b]);
     }
   });
   std::vector<double> ratios;
   for (int a = 0; a < sources; ++a)
     for (int b = 0; b < samples; ++b)
-      if (b != a && target_distance[a][b] > 0 && exact[a][b])
+      if (b != a && target_distance[a][b] > 0 && exact[a][b] && target_exact[a][b])
         ratios.push_back(source_distance[a][b] / target_distance[a][b]);
   if (!ratios.empty()) {
     std::nth_element(ratios.begin(), ratios.begin() + ratios.size() / 2, ratios.end());
@@ -587,7 +533,8 @@ PartMapEvidence measure_with(const PartGeometry& part, const PreprocessedShape& 
   for (int a = 0; a < sources; ++a)
     for (int b = 0; b < samples; ++b)
       if (b != a) {
-        sum += mismatch(source_distance[a][b], static_cast<float>(evidence.scale * target_distance[a][b]), exact[a][b]);
+        sum += mismatch(source_distance[a][b], static_cast<float>(evidence.scale * target_distance[a][b]), exact[a][b],
+                        target_exact[a][b]);
         ++count;
       }
   evidence.distortion = count ? sum / count / source.diameter() : 0.0;
@@ -599,9 +546,9 @@ PartMapEvidence measure_with(const PartGeometry& part, const PreprocessedShape& 
 
 std::vector<PartMapEvidence> measure_part_maps(const PreprocessedShape& source, const PreprocessedShape& target,
                                                const std::vector<const std::vector<int>*>& forwards, int threads) {
-  const PartGeometry part{source, distance_to_boundary(source)};
+  const PartGeometry part(source, target);
   std::vector<PartMapEvidence> evidence;
-  for (const std::vector<int>* forward : forwards) evidence.push_back(measure_with(part, target, *forward, threads));
+  for (const std::vector<int>* forward : forwards) evidence.push_back(measure_with(part, *forward, threads));
   return evidence;
 }
 

@@ -116,11 +116,13 @@ std::vector<SettingField> build_schema() {
           [](auto& s) -> auto& { return s.dense.locality; }),
       // Refinement and the choice by dense evidence.
       // Which problem: complete shapes, or a part of the target's shape.
-      row("method", kMatch, {}, "full (both meshes complete) or part (the source is a part of the target's shape)",
-          [](auto& s) -> auto& { return s.method; }, {"full", "part"}),
+      row("method", kMatch, {},
+          "full (both meshes complete), part (the source is a part of the target's shape) or ravac (either may "
+          "be partial)",
+          [](auto& s) -> auto& { return s.method; }, {"full", "part", "ravac"}),
       row("part_extremities", kMatch, closed(3, 7), "part matching: source extremities matched combinatorially (M)",
           [](auto& s) -> auto& { return s.part_extremities; }),
-      row("part_candidates", kMatch, closed(1, 64), "part matching: best extremity maps grown to sample maps and compared",
+      row("part_candidates", kMatch, closed(1, 64), "part matching (part, ravac): extremity maps grown to sample maps and compared",
           [](auto& s) -> auto& { return s.part_candidates; }),
       row("refine", kMatch, {}, "after tracking: zoomout (spectral refinement, choice by dense evidence) or none (the C2F dense level)",
           [](auto& s) -> auto& { return s.refine; }, {"zoomout", "none"}),

@@ -18,7 +18,8 @@ enum class RefineMethod {
 
 enum class MatchMethod {
   kFull,  // default: both meshes are complete shapes (C2F with flip tracking)
-  kPart,  // the source is a part of the target's shape, at any scale (partial/part_matching.h)
+  kPart,   // the source is a part of the target's shape, at any scale (partial/part_matching.h)
+  kRavac,  // either mesh may be partial, at any scale: extremity maps by rank, vote, combine
 };
 
 enum class SelectionRule {

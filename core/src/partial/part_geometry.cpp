@@ -1,0 +1,80 @@
+#include "part_geometry.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "isocorr/util/error.h"
+
+namespace isocorr {
+
+std::vector<float> distance_to_boundary(const PreprocessedShape& shape) {
+  const TriangleMesh& mesh = shape.mesh();
+  // An edge used by one face only lies on the boundary; count each undirected edge's faces.
+  std::vector<std::pair<int, int>> edges;
+  for (const Face& f : mesh.faces)
+    for (int c = 0; c < 3; ++c) edges.emplace_back(std::minmax(f[c], f[(c + 1) % 3]));
+  std::sort(edges.begin(), edges.end());
+  std::vector<int> boundary;
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i == 1) boundary.push_back(edges[i].first), boundary.push_back(edges[i].second);
+    i = j;
+  }
+  if (boundary.empty()) return std::vector<float>(mesh.num_vertices(), kUnreached);
+  std::sort(boundary.begin(), boundary.end());
+  boundary.erase(std::unique(boundary.begin(), boundary.end()), boundary.end());
+  FastMarching::Workspace workspace;
+  shape.geodesics().compute(boundary, workspace);
+  return workspace.distance;
+}
+
+// A cut makes false extremities along its rim; a shape with fewer than 3 extremities left
+// (half a body may keep only a leg) takes further samples, which are not extremities.
+std::vector<int> search_samples(const PreprocessedShape& s, const std::vector<float>& boundary_distance,
+                                float rim_band, int wanted, bool& not_all_extremities) {
+  const std::vector<int>& extremities = s.saliency().extremities;
+  auto away = [&](int i) { return boundary_distance[s.sample_vertex(i)] >= rim_band; };
+  std::vector<int> chosen;
+  for (int i = 0; i < s.num_level0_samples() && static_cast<int>(chosen.size()) < wanted; ++i)
+    if (away(i) && std::find(extremities.begin(), extremities.end(), s.sample_vertex(i)) != extremities.end())
+      chosen.push_back(i);
+  not_all_extremities = chosen.size() < 3;
+  for (int i = 0; i < s.num_samples() && chosen.size() < 3; ++i)
+    if (away(i) && std::find(chosen.begin(), chosen.end(), i) == chosen.end()) chosen.push_back(i);
+  if (chosen.size() < 3) throw InputError("a partial shape has fewer than 3 samples away from its boundary to match");
+  return chosen;
+}
+
+// The paper's scale-invariant distortion, made boundary-aware: the scale kappa is the mean
+// source/target ratio over the pairs exact on both shapes, and each pair adds its relative
+// mismatch at that scale (one-sided where a distance is only an upper bound). The paper's
+// ratio-spread form over exact pairs alone leaves an extremity free whenever a cut makes
+// all its distances inexact, so maps differing only there tie.
+double scale_invariant_distortion(const std::vector<std::vector<double>>& gs, const Eigen::MatrixXd& gt,
+                                  const std::vector<std::vector<char>>& exact,
+                                  const std::vector<std::vector<char>>& target_exact,
+                                  const std::vector<int>& target_of, double& scale) {
+  const int m = static_cast<int>(target_of.size());
+  double ratio_sum = 0, least_ratio = std::numeric_limits<double>::max();
+  int ratios = 0;
+  for (int i = 0; i < m; ++i)
+    for (int a = i + 1; a < m; ++a) {
+      const double r = gs[i][a] / std::max(gt(target_of[i], target_of[a]), 1e-12);
+      const bool target_side_exact = target_exact[target_of[i]][target_of[a]];
+      if (exact[i][a] && target_side_exact) ratio_sum += r, ++ratios;
+      else if (target_side_exact) least_ratio = std::min(least_ratio, r);  // source lengthened: r >= kappa
+    }
+  // Without exact pairs the ratios of lengthened source distances bound kappa from above;
+  // the tightest bound is the best guess.
+  scale = ratios ? ratio_sum / ratios : least_ratio == std::numeric_limits<double>::max() ? 1.0 : least_ratio;
+  double sum = 0;
+  for (int i = 0; i < m; ++i)
+    for (int a = i + 1; a < m; ++a)
+      sum += mismatch(static_cast<float>(gs[i][a]), static_cast<float>(scale * gt(target_of[i], target_of[a])),
+                      exact[i][a], target_exact[target_of[i]][target_of[a]]) /
+             std::max(gs[i][a], 1e-12);
+  return sum / std::max(1, m * (m - 1) / 2);
+}
+
+}  // namespace isocorr
