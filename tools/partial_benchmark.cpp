@@ -2,12 +2,16 @@
 //
 // For each pair of a dataset's pairs.tsv, the source is cut (a geodesic ball, a plane, a
 // few holes; cut_partial_shape), matched with method = part to the full target in its
-// other pose, and scored on the ground truth carried through the cut's index map. The cut
-// shapes exist only in memory: the data's licences forbid copies.
+// other pose, and scored on the ground truth carried through the cut's index map. With
+// --cut-target the target loses a geodesic ball too (the general setting, --method ravac),
+// and points whose true image was cut away are not scored. The cut shapes exist only in
+// memory: the data's licences forbid copies.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <numeric>
+#include <optional>
 
 #include <CLI/CLI.hpp>
 
@@ -31,18 +35,30 @@ const CutSpec kCuts[] = {
     {CutKind::kHoles, 0.8, 3, 4},
 };
 
-// The pair's ground truth restricted to the part and renumbered through its index map.
-GroundTruth ground_truth_of_part(const GroundTruth& full, const PartialShape& part, int full_vertices) {
+// Part vertex of each full-mesh vertex, -1 where it was cut away.
+std::vector<int> part_vertex_of(const PartialShape& part, int full_vertices) {
   std::vector<int> part_vertex(full_vertices, -1);
   for (size_t p = 0; p < part.full_vertex.size(); ++p) part_vertex[part.full_vertex[p]] = static_cast<int>(p);
+  return part_vertex;
+}
+
+// The pair's ground truth restricted to the source part (and, when the target was cut, to
+// points whose image and mirror image are kept), renumbered through the index maps.
+GroundTruth ground_truth_of_parts(const GroundTruth& full, const PartialShape& source_part, int source_vertices,
+                                  const PartialShape* target_part, int target_vertices) {
+  const std::vector<int> source_vertex = part_vertex_of(source_part, source_vertices);
+  std::vector<int> target_vertex(target_vertices);
+  std::iota(target_vertex.begin(), target_vertex.end(), 0);
+  if (target_part) target_vertex = part_vertex_of(*target_part, target_vertices);
   GroundTruth truth;
-  truth.description = full.description + ", restricted to the part";
+  truth.description = full.description + ", restricted to the parts";
   for (size_t k = 0; k < full.source.size(); ++k) {
-    const int p = part_vertex[full.source[k]];
-    if (p < 0) continue;
+    const int p = source_vertex[full.source[k]], t = target_vertex[full.target[k]];
+    const int mirror = full.mirrored_target.empty() ? 0 : target_vertex[full.mirrored_target[k]];
+    if (p < 0 || t < 0 || mirror < 0) continue;
     truth.source.push_back(p);
-    truth.target.push_back(full.target[k]);
-    if (!full.mirrored_target.empty()) truth.mirrored_target.push_back(full.mirrored_target[k]);
+    truth.target.push_back(t);
+    if (!full.mirrored_target.empty()) truth.mirrored_target.push_back(mirror);
   }
   return truth;
 }
@@ -67,12 +83,16 @@ int main(int argc, char** argv) {
   std::vector<std::string> datasets;
   std::string data_root = "../shared/data";
   int limit = 3, points = 1000;
+  double target_keep = 0;
   MatchSettings settings;
   settings.method = MatchMethod::kPart;
   app.add_option("datasets", datasets, "dataset folders under --data (default: faust_5k scape tosca_isometric_5k)");
   app.add_option("--data", data_root, "root of the benchmark data")->capture_default_str();
   app.add_option("--limit", limit, "pairs per dataset (each cut 4 ways)")->capture_default_str();
   app.add_option("--points", points, "ground-truth points scored per pair")->capture_default_str();
+  app.add_option("--cut-target", target_keep,
+                 "also cut a geodesic ball from the target, keeping this share of its area (0: keep it whole)")
+      ->check(CLI::Range(0.0, 0.95));
   isocorr::cli::add_match_settings_flags(app, settings);
   CLI11_PARSE(app, argc, argv);
   if (datasets.empty()) datasets = {"faust_5k", "scape", "tosca_isometric_5k"};
@@ -94,8 +114,11 @@ int main(int argc, char** argv) {
       const LoadedMesh target = load_mesh(pair.target_path);
       const GroundTruth truth =
           load_ground_truth(dir, pair, source.mesh.num_vertices(), target.mesh.num_vertices());
-      const MeshTopology topology(target.mesh);
-      const FastMarching geodesics(target.mesh, topology);
+      std::optional<PartialShape> target_part;
+      if (target_keep > 0) target_part = cut_partial_shape(target.mesh, {CutKind::kGeodesicBall, target_keep, 1, 7});
+      const TriangleMesh& target_mesh = target_part ? target_part->mesh : target.mesh;
+      const MeshTopology topology(target_mesh);
+      const FastMarching geodesics(target_mesh, topology);
       const double diameter = estimate_geodesic_diameter(geodesics);
       for (const CutSpec& cut : kCuts) {
         const auto stem = [](const std::string& p) { return std::filesystem::path(p).stem().string(); };
@@ -104,15 +127,17 @@ int main(int argc, char** argv) {
         try {
           const PartialShape part = cut_partial_shape(source.mesh, cut);
           const auto start = std::chrono::steady_clock::now();
-          const MatchResult result = match_meshes(part.mesh, target.mesh, settings);
+          const MatchResult result = match_meshes(part.mesh, target_mesh, settings);
           const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
           EvaluationOptions options;
           options.max_points = points;
-          const GroundTruth part_truth = ground_truth_of_part(truth, part, source.mesh.num_vertices());
+          const GroundTruth part_truth =
+              ground_truth_of_parts(truth, part, source.mesh.num_vertices(), target_part ? &*target_part : nullptr,
+                                    target.mesh.num_vertices());
           const GroundTruthScore s =
-              score_against_ground_truth(target.mesh, geodesics, diameter, result.output.forward, part_truth, options);
+              score_against_ground_truth(target_mesh, geodesics, diameter, result.output.forward, part_truth, options);
           const bool right = s.mean_error < 0.1 && s.mirrored_fraction < 0.1;
-          const double covered = coverage(target.mesh, geodesics, result.output.forward, {100}).front() / part.kept_area;
+          const double covered = coverage(target_mesh, geodesics, result.output.forward, {100}).front() / part.kept_area;
           std::printf(" kept %3.0f%% V=%5d %6.2f s | %s D_grd %.4f Kim %.4f AUC %.3f mirrored %.2f coverage %.2f "
                       "matched %.0f%%\n",
                       100 * part.kept_area, part.mesh.num_vertices(), seconds, right ? "ok   " : "WRONG",
