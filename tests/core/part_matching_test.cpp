@@ -186,6 +186,10 @@ TEST_F(PartOfBlob, RavacMatchesTwoPartialMeshesOfTheSameCreature) {
     return note.rfind("ravac: ", 0) == 0 && note.find("consistent triplets voted") != std::string::npos;
   });
   EXPECT_TRUE(says_how);
+  const bool says_which = std::any_of(result.notes.begin(), result.notes.end(), [](const std::string& note) {
+    return note.rfind("ravac method: the ", 0) == 0 && note.find(" map kept") != std::string::npos;
+  });
+  EXPECT_TRUE(says_which);
 }
 
 }  // namespace

@@ -113,8 +113,8 @@ DenseMap match_complete(const PreprocessedShape& source, const PreprocessedShape
   return dense;
 }
 
-// method = part: the part search (part_matching.h) and the complete pipeline both match the
-// part, and the map whose smoothed curvature agrees better wins (mirrors, reversing most
+// method = part or ravac: the part search or RAVAC (part_matching.h) and the complete
+// pipeline both match the part, and the map whose smoothed curvature agrees better wins (mirrors, reversing most
 // faces, lose first). They are right on different cuts (isocorr-bench-partial on faust_5k,
 // scape, tosca_isometric_5k): the complete pipeline on parts that lost holes or a 30% ball,
 // whose spectrum barely moves, the part search on half bodies. Curvature picked the right one
@@ -134,13 +134,17 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
       };
     return shared;
   };
+  // The notes name the method and its search: "part method" / "part search", "ravac method" / "RAVAC search".
+  const bool ravac = settings.method == MatchMethod::kRavac;
+  const std::string method_name = ravac ? "ravac method" : "part method";
+  const std::string search_name = ravac ? "RAVAC search" : "part search";
   DenseMap part = match_part(source, target, settings, result, share_of(0, 0.5));
   MatchResult whole_result;
   DenseMap whole;
   try {
     whole = match_complete(source, target, settings, whole_result, share_of(0.5, 0.5));
   } catch (const InputError& e) {
-    result.notes.push_back(std::string("part method: the part search's map kept; the complete pipeline failed: ") +
+    result.notes.push_back(method_name + ": the " + search_name + "'s map kept; the complete pipeline failed: " +
                            e.what());
     return part;
   }
@@ -159,8 +163,8 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
            std::to_string(e.orientation) + ", distortion " + std::to_string(e.distortion) + ", scale " +
            std::to_string(e.scale);
   };
-  const std::string why = std::string("part method: ") + (whole_wins ? "the complete pipeline's" : "the part search's") +
-                          " map kept; " + describe("part search", part_evidence) + ", " +
+  const std::string why = method_name + ": the " + (whole_wins ? std::string("complete pipeline") : search_name) +
+                          "'s map kept; " + describe(search_name.c_str(), part_evidence) + ", " +
                           describe("complete pipeline", whole_evidence);
   if (!whole_wins) {
     result.timings.insert(result.timings.end(), whole_result.timings.begin(), whole_result.timings.end());
