@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 #include <limits>
+#include <map>
 #include <queue>
 
 #include "isocorr/matching/orientation.h"
@@ -425,8 +426,14 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   control.report({"part-dense", 2, 2, 0.7});
   std::vector<DenseMap> dense(maps.size());
   std::vector<double> curvature(maps.size());
-  auto visit_order = [&](const ExtremityMap& map) {
-    return breadth_first_order(source, source.sample_vertex(map.source_samples.front()));
+  // Breadth first from each candidate's first pair: one order per distinct first sample (the
+  // part search's candidates all share theirs, RAVAC's do not).
+  std::map<int, std::vector<int>> orders;
+  for (const ExtremityMap& map : maps)
+    if (!orders.count(map.source_samples.front()))
+      orders[map.source_samples.front()] = breadth_first_order(source, source.sample_vertex(map.source_samples.front()));
+  auto visit_order = [&](const ExtremityMap& map) -> const std::vector<int>& {
+    return orders.at(map.source_samples.front());
   };
   parallel_for(static_cast<int>(maps.size()), threads, [&](int i, int) {
     dense[i] = dense_part_map(part, target, result.tracked[i], sample_anchors(target, result.tracked[i].pairs),
