@@ -153,11 +153,8 @@ class ApiLimits : public WithSuiteFiles<ApiLimits> {
   }
 
   std::string reflection_probe(const ServerProcess& server) const {
-    std::string command = std::string("/usr/bin/python3 ") + ISOCORR_SERVICE_TEST_DIR + "/reflection_probe.py" +
-                          " --server " + server.address() + " --work " + (data_dir() / "python").string();
-    for (const char* dir : {ISOCORR_PROTO_DIR, ISOCORR_GRPC_PROTO_DIR, ISOCORR_GOOGLEAPIS_PROTO_DIR})
-      command += std::string(" --proto-path ") + dir;
-    const CommandRun run = run_command(command);
+    const CommandRun run =
+        run_command(python_grpc_command("reflection_probe.py", server.address(), data_dir() / "python"));
     EXPECT_EQ(run.exit_code, 0) << run.err;
     return run.out;
   }

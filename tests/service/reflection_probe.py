@@ -7,7 +7,7 @@ Usage: reflection_probe.py --server HOST:PORT --work DIR --proto-path DIR...
 """
 import importlib
 
-from python_client_test import parse_arguments
+from python_client_test import exit_now, parse_arguments
 
 
 def main():
@@ -28,6 +28,7 @@ def main():
             print(f"{label}: answered {' '.join(names)} {sum(files)} file(s)")
         except grpc.RpcError as error:
             print(f"{label}: {error.code().name}")
+    exit_now(0)
 
 
 if __name__ == "__main__":

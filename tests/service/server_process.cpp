@@ -38,6 +38,14 @@ CommandRun run_command(const std::string& command) {
   return result;
 }
 
+std::string python_grpc_command(const std::string& script, const std::string& address, const fs::path& work) {
+  std::string command = std::string("timeout --kill-after=5 300 /usr/bin/python3 ") + ISOCORR_SERVICE_TEST_DIR + "/" +
+                        script + " --server " + address + " --work " + work.string();
+  for (const char* dir : {ISOCORR_PROTO_DIR, ISOCORR_GRPC_PROTO_DIR, ISOCORR_GOOGLEAPIS_PROTO_DIR})
+    command += std::string(" --proto-path ") + dir;
+  return command;
+}
+
 pid_t spawn_command(const std::string& command, const fs::path& log) {
   const std::string line = "exec " + command + " >" + log.string() + " 2>&1";
   const pid_t pid = fork();

@@ -22,6 +22,12 @@ std::string slurp_file(const std::filesystem::path& path);
 // Runs a shell command line; stdout and stderr are kept apart.
 CommandRun run_command(const std::string& command);
 
+// The command line that runs one of the Python gRPC scripts beside these tests against
+// `address`, generating its stubs under `work`; killed after five minutes so that a hung
+// interpreter fails its test with its output instead of stalling the suite.
+std::string python_grpc_command(const std::string& script, const std::string& address,
+                                const std::filesystem::path& work);
+
 // Starts `command` through /bin/sh (exec'd, so the pid is the command's) with output to
 // `log`; `wait_for_exit` returns its exit code.
 pid_t spawn_command(const std::string& command, const std::filesystem::path& log);

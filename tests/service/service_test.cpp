@@ -392,13 +392,10 @@ TEST_F(Service, TlsWithToken) {
 // Another gRPC implementation (Python's) with stubs generated from the .proto, reflection.
 TEST_F(Service, PythonGrpcClientUsesTheApi) {
   ServerProcess server(data_dir());
-  std::string command = std::string("/usr/bin/python3 ") + ISOCORR_SERVICE_TEST_DIR + "/python_client_test.py" +
-                        " --server " + server.address() + " --mesh " + path("creature.ply").string() +
-                        " --target " + path("creature_moved.ply").string() + " --work " +
-                        (data_dir() / "python").string();
-  for (const char* dir : {ISOCORR_PROTO_DIR, ISOCORR_GRPC_PROTO_DIR, ISOCORR_GOOGLEAPIS_PROTO_DIR})
-    command += std::string(" --proto-path ") + dir;
-  const CommandRun run = run_command(command);
+  const CommandRun run = run_command(python_grpc_command("python_client_test.py", server.address(),
+                                                         data_dir() / "python") +
+                                     " --mesh " + path("creature.ply").string() + " --target " +
+                                     path("creature_moved.ply").string());
   EXPECT_EQ(run.exit_code, 0) << run.out << run.err;
 }
 
