@@ -100,8 +100,8 @@ float trimmed_mean(std::vector<float>& terms) {
 // Calls visit(source distance, raw target distance, source exact, target exact) for every
 // pair of pairs of a sample map.
 template <class Visit>
-void for_each_pair_of_pairs(const PartGeometry& part, const PreprocessedShape& target,
-                            const std::vector<SamplePair>& pairs, Visit visit) {
+void for_each_pair_of_pairs(const PartGeometry& part, const std::vector<SamplePair>& pairs, Visit visit) {
+  const PreprocessedShape& target = part.target;
   for (size_t i = 0; i < pairs.size(); ++i)
     for (size_t j = i + 1; j < pairs.size(); ++j) {
       const int sv = part.shape.sample_vertex(pairs[j].source_sample);
@@ -114,10 +114,9 @@ void for_each_pair_of_pairs(const PartGeometry& part, const PreprocessedShape& t
 
 // Scale normalisation from trusted matches: the median source/target distance ratio over
 // the exact distances between matched samples (`fallback` when there are none).
-double scale_from_exact_pairs(const PartGeometry& part, const PreprocessedShape& target,
-                              const std::vector<SamplePair>& pairs, double fallback) {
+double scale_from_exact_pairs(const PartGeometry& part, const std::vector<SamplePair>& pairs, double fallback) {
   std::vector<double> ratios;
-  for_each_pair_of_pairs(part, target, pairs, [&](float gs, double gt, bool exact, bool target_exact) {
+  for_each_pair_of_pairs(part, pairs, [&](float gs, double gt, bool exact, bool target_exact) {
     if (gt > 0 && exact && target_exact) ratios.push_back(gs / gt);
   });
   if (ratios.empty()) return fallback;
@@ -129,11 +128,10 @@ double scale_from_exact_pairs(const PartGeometry& part, const PreprocessedShape&
 // scale kappa (fraction of the part's diameter). The cost each sample was matched with is
 // no measure of the map: it is trimmed and sees only earlier pairs, so a map grown from
 // wrong extremities trims them away and looks as consistent as the right one.
-double map_distortion(const PartGeometry& part, const PreprocessedShape& target, const std::vector<SamplePair>& pairs,
-                      double scale) {
+double map_distortion(const PartGeometry& part, const std::vector<SamplePair>& pairs, double scale) {
   double sum = 0;
   long count = 0;
-  for_each_pair_of_pairs(part, target, pairs, [&](float gs, double gt, bool exact, bool target_exact) {
+  for_each_pair_of_pairs(part, pairs, [&](float gs, double gt, bool exact, bool target_exact) {
     sum += mismatch(gs, static_cast<float>(gt * scale), exact, target_exact);
     ++count;
   });
@@ -142,9 +140,10 @@ double map_distortion(const PartGeometry& part, const PreprocessedShape& target,
 
 // Step 3: source samples of schedule steps up to `last_step` matched coarse to fine to
 // target samples, each against every pair matched before it.
-TrackedMap grow_sample_map(const PartGeometry& part, const PreprocessedShape& target, const ExtremityMap& start,
-                           int rank, int last_step, double& grown_scale, const JobControl& control) {
+TrackedMap grow_sample_map(const PartGeometry& part, const ExtremityMap& start, int rank, int last_step,
+                           double& grown_scale, const JobControl& control) {
   const PreprocessedShape& source = part.shape;
+  const PreprocessedShape& target = part.target;
   const float scale = static_cast<float>(start.scale);
   const float target_diameter = static_cast<float>(target.diameter());
   TrackedMap tracked;
@@ -188,8 +187,8 @@ TrackedMap grow_sample_map(const PartGeometry& part, const PreprocessedShape& ta
     tracked.pairs.push_back({s, best_target, best / static_cast<float>(source.diameter()), -1});
   }
   tracked.orientation = orientation_agreement(source, target, tracked.pairs);
-  grown_scale = scale_from_exact_pairs(part, target, tracked.pairs, start.scale);
-  tracked.diso = map_distortion(part, target, tracked.pairs, grown_scale);
+  grown_scale = scale_from_exact_pairs(part, tracked.pairs, start.scale);
+  tracked.diso = map_distortion(part, tracked.pairs, grown_scale);
   return tracked;
 }
 
@@ -236,9 +235,9 @@ TargetAnchors sample_anchors(const PreprocessedShape& target, const std::vector<
 // Each pair's image moved from its target sample to the vertex that best agrees with the
 // other pairs (a sample spacing is about 4% of the diameter: too coarse for the dense map),
 // then a geodesic field from each moved image.
-TargetAnchors vertex_accurate_anchors(const PartGeometry& part, const PreprocessedShape& target,
-                                      const std::vector<SamplePair>& pairs, double scale, int threads,
-                                      const JobControl& control) {
+TargetAnchors vertex_accurate_anchors(const PartGeometry& part, const std::vector<SamplePair>& pairs, double scale,
+                                      int threads, const JobControl& control) {
+  const PreprocessedShape& target = part.target;
   TargetAnchors anchors;
   const int count = static_cast<int>(pairs.size());
   anchors.vertex.resize(count);
@@ -277,10 +276,10 @@ TargetAnchors vertex_accurate_anchors(const PartGeometry& part, const Preprocess
 
 // Step 4: every source vertex, in `order` (breadth_first_order), by descent of the anchors'
 // weighted mismatch on the target (the forward map only).
-DenseMap dense_part_map(const PartGeometry& part, const PreprocessedShape& target, const TrackedMap& chosen,
-                        const TargetAnchors& anchors, double scale, const std::vector<int>& order,
-                        const JobControl& control) {
+DenseMap dense_part_map(const PartGeometry& part, const TrackedMap& chosen, const TargetAnchors& anchors, double scale,
+                        const std::vector<int>& order, const JobControl& control) {
   const PreprocessedShape& source = part.shape;
+  const PreprocessedShape& target = part.target;
   const int source_vertices = source.mesh().num_vertices();
   const float scale_f = static_cast<float>(scale);
   const float source_diameter = static_cast<float>(source.diameter());
@@ -364,7 +363,7 @@ std::vector<ExtremityMap> part_search_candidates(const PartGeometry& part, const
   std::vector<TrackedMap> screened(all_maps.size());
   std::vector<double> screened_scale(all_maps.size());
   parallel_for(static_cast<int>(all_maps.size()), threads, [&](int i, int) {
-    screened[i] = grow_sample_map(part, target, all_maps[i], i, kScreenLastStep, screened_scale[i], control);
+    screened[i] = grow_sample_map(part, all_maps[i], i, kScreenLastStep, screened_scale[i], control);
   });
   // Candidates: half the best by extremity distortion (right when the extremities pin the
   // map down), half the best screened (right when they tie), each map once.
@@ -415,7 +414,7 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   std::atomic<int> done{0};
   const int last_step = 2 * source.options().decision_level;
   parallel_for(static_cast<int>(maps.size()), threads, [&](int i, int) {
-    result.tracked[i] = grow_sample_map(part, target, maps[i], ranks[i], last_step, scales[i], control);
+    result.tracked[i] = grow_sample_map(part, maps[i], ranks[i], last_step, scales[i], control);
     control.report({"part-tracking", 1, 2, 0.3 + 0.4 * (++done) / maps.size()});
   });
   clock.finish("part-tracking");
@@ -436,7 +435,7 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
     return orders.at(map.source_samples.front());
   };
   parallel_for(static_cast<int>(maps.size()), threads, [&](int i, int) {
-    dense[i] = dense_part_map(part, target, result.tracked[i], sample_anchors(target, result.tracked[i].pairs),
+    dense[i] = dense_part_map(part, result.tracked[i], sample_anchors(target, result.tracked[i].pairs),
                               scales[i], visit_order(maps[i]), control);
     result.tracked[i].orientation = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
                                                                 target.normals(), dense[i].forward);
@@ -455,9 +454,9 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   result.chosen = best >= 0 ? best : rank_tracked(result.tracked, settings).front();
   const TrackedMap& winner = result.tracked[result.chosen];
   const TargetAnchors anchors =
-      vertex_accurate_anchors(part, target, winner.pairs, scales[result.chosen], threads, control);
+      vertex_accurate_anchors(part, winner.pairs, scales[result.chosen], threads, control);
   DenseMap chosen =
-      dense_part_map(part, target, winner, anchors, scales[result.chosen], visit_order(maps[result.chosen]), control);
+      dense_part_map(part, winner, anchors, scales[result.chosen], visit_order(maps[result.chosen]), control);
   add_part_reverse_map(source, target, scales[result.chosen], chosen);
   clock.finish("part-dense");
   result.part_scale = scales[result.chosen];
