@@ -98,7 +98,7 @@ int main(int argc, char** argv) {
   if (datasets.empty()) datasets = {"faust_5k", "scape", "tosca_isometric_5k"};
 
   std::printf("right: mean error < 0.1 of the diameter and < 10%% of points nearer their mirror image; "
-              "Kim error = geodesic error / sqrt(target area); coverage: SHREC'20, 100 seeds, over the kept share\n");
+              "Kim error = geodesic error / sqrt(target area); coverage: SHREC'20, 100 seeds, of the cells the true image reaches\n");
   Tally all;
   for (const auto& name : datasets) {
     const std::string dir = data_root + "/" + name;
@@ -137,7 +137,8 @@ int main(int argc, char** argv) {
           const GroundTruthScore s =
               score_against_ground_truth(target_mesh, geodesics, diameter, result.output.forward, part_truth, options);
           const bool right = s.mean_error < 0.1 && s.mirrored_fraction < 0.1;
-          const double covered = coverage(target_mesh, geodesics, result.output.forward, {100}).front() / part.kept_area;
+          const double covered =
+              coverage_of_true_image(target_mesh, geodesics, result.output.forward, part_truth.target, 100);
           std::printf(" kept %3.0f%% V=%5d %6.2f s | %s D_grd %.4f Kim %.4f AUC %.3f mirrored %.2f coverage %.2f "
                       "matched %.0f%%\n",
                       100 * part.kept_area, part.mesh.num_vertices(), seconds, right ? "ok   " : "WRONG",

@@ -141,5 +141,27 @@ TEST_F(GridMetrics, Coverage) {
   EXPECT_NEAR(coverage(mesh_, geodesics_, half, {100})[0], 0.5, 0.1);
 }
 
+// A part's map is measured against where its true image lies, not against the whole target.
+TEST_F(GridMetrics, CoverageOfTrueImage) {
+  // The left third of the grid is the part; its true images are itself.
+  std::vector<int> part_images;
+  for (int r = 0; r < kSide; ++r)
+    for (int c = 0; c < kSide / 3; ++c) part_images.push_back(vid(r, c));
+  // Right: every cell its true image reaches (whole-target coverage says about a third).
+  EXPECT_NEAR(coverage_of_true_image(mesh_, geodesics_, part_images, part_images, 100), 1.0, 1e-9);
+  EXPECT_LT(coverage(mesh_, geodesics_, part_images, {100})[0], 0.5);
+  // Shifted onto the right third: none of the owed cells.
+  std::vector<int> shifted;
+  for (int v : part_images) shifted.push_back(v + 2 * kSide / 3);
+  EXPECT_LT(coverage_of_true_image(mesh_, geodesics_, shifted, part_images, 100), 0.05);
+  // Collapsed onto the first row: only the cells along it.
+  std::vector<int> squeezed;
+  for (int v : part_images) squeezed.push_back(v % kSide);
+  const double squeezed_coverage = coverage_of_true_image(mesh_, geodesics_, squeezed, part_images, 100);
+  EXPECT_GT(squeezed_coverage, 0.0);
+  EXPECT_LT(squeezed_coverage, 0.4);
+  EXPECT_THROW(coverage_of_true_image(mesh_, geodesics_, part_images, {kSide * kSide}, 100), InputError);
+}
+
 }  // namespace
 }  // namespace isocorr

@@ -145,17 +145,10 @@ GroundTruthScore score_against_ground_truth(const TriangleMesh& target, const Fa
   return score;
 }
 
-std::vector<double> coverage(const TriangleMesh& target, const FastMarching& target_geodesics,
-                             const std::vector<int>& forward, const std::vector<int>& seed_counts) {
-  const int nv = target.num_vertices();
-  std::vector<double> result(seed_counts.size(), 0.0);
-  if (nv == 0 || seed_counts.empty()) return result;
-  for (int v : forward) check_vertex(v, nv, "mapped vertex");
-  const int largest = std::min(nv, *std::max_element(seed_counts.begin(), seed_counts.end()));
-  if (largest <= 0) return result;
+namespace {
 
-  // Farthest-point seeds for the largest count; every smaller count uses a prefix, which is
-  // what FPS would have chosen for it anyway.
+// Up to `count` farthest-point seeds on the target (fewer when every vertex is one).
+std::vector<int> farthest_point_seeds(const FastMarching& target_geodesics, int nv, int count) {
   FastMarching::Workspace ws;
   target_geodesics.compute({0}, ws);
   int first = 0;
@@ -168,7 +161,7 @@ std::vector<double> coverage(const TriangleMesh& target, const FastMarching& tar
     const float radius = seeds.size() == 1 ? kUnreached : nearest[seeds.back()];
     target_geodesics.compute({seeds.back()}, ws, radius);
     for (int v : ws.touched) nearest[v] = std::min(nearest[v], ws.distance[v]);
-    if (static_cast<int>(seeds.size()) == largest) break;
+    if (static_cast<int>(seeds.size()) == count) break;
     // Unreached vertices (other components) come first, as infinitely far.
     int next = 0;
     for (int v = 1; v < nv; ++v)
@@ -176,6 +169,30 @@ std::vector<double> coverage(const TriangleMesh& target, const FastMarching& tar
     if (nearest[next] == 0) break;  // every vertex is a seed
     seeds.push_back(next);
   }
+  return seeds;
+}
+
+// Which of the `cells` Voronoi cells (labels per vertex) hold one of `images`.
+std::vector<char> cells_hit(const std::vector<int>& label, int cells, const std::vector<int>& images) {
+  std::vector<char> hit(cells, 0);
+  for (int v : images)
+    if (label[v] >= 0) hit[label[v]] = 1;
+  return hit;
+}
+
+}  // namespace
+
+std::vector<double> coverage(const TriangleMesh& target, const FastMarching& target_geodesics,
+                             const std::vector<int>& forward, const std::vector<int>& seed_counts) {
+  const int nv = target.num_vertices();
+  std::vector<double> result(seed_counts.size(), 0.0);
+  if (nv == 0 || seed_counts.empty()) return result;
+  for (int v : forward) check_vertex(v, nv, "mapped vertex");
+  const int largest = std::min(nv, *std::max_element(seed_counts.begin(), seed_counts.end()));
+  if (largest <= 0) return result;
+  // Farthest-point seeds for the largest count; every smaller count uses a prefix, which is
+  // what FPS would have chosen for it anyway.
+  const std::vector<int> seeds = farthest_point_seeds(target_geodesics, nv, largest);
 
   const std::vector<double> areas = vertex_areas(target);
   double total = 0;
@@ -186,15 +203,33 @@ std::vector<double> coverage(const TriangleMesh& target, const FastMarching& tar
     if (n <= 0) continue;
     const std::vector<int> label =
         voronoi_labels(target, target_geodesics.topology(), std::vector<int>(seeds.begin(), seeds.begin() + n));
-    std::vector<char> hit(n, 0);
-    for (int v : forward)
-      if (label[v] >= 0) hit[label[v]] = 1;
+    const std::vector<char> hit = cells_hit(label, n, forward);
     double covered = 0;
     for (int v = 0; v < nv; ++v)
       if (label[v] >= 0 && hit[label[v]]) covered += areas[v];
     result[c] = covered / total;
   }
   return result;
+}
+
+double coverage_of_true_image(const TriangleMesh& target, const FastMarching& target_geodesics,
+                              const std::vector<int>& forward, const std::vector<int>& true_images, int seed_count) {
+  const int nv = target.num_vertices();
+  if (nv == 0 || seed_count <= 0) return 0;
+  for (int v : forward) check_vertex(v, nv, "mapped vertex");
+  for (int v : true_images) check_vertex(v, nv, "true image");
+  const std::vector<int> seeds = farthest_point_seeds(target_geodesics, nv, std::min(nv, seed_count));
+  const std::vector<int> label = voronoi_labels(target, target_geodesics.topology(), seeds);
+  const int cells = static_cast<int>(seeds.size());
+  const std::vector<char> reached = cells_hit(label, cells, forward), owed = cells_hit(label, cells, true_images);
+  const std::vector<double> areas = vertex_areas(target);
+  double covered = 0, total = 0;
+  for (int v = 0; v < nv; ++v)
+    if (label[v] >= 0 && owed[label[v]]) {
+      total += areas[v];
+      if (reached[label[v]]) covered += areas[v];
+    }
+  return total > 0 ? covered / total : 0;
 }
 
 }  // namespace isocorr

@@ -44,4 +44,12 @@ GroundTruthScore score_against_ground_truth(const TriangleMesh& target, const Fa
 std::vector<double> coverage(const TriangleMesh& target, const FastMarching& target_geodesics,
                              const std::vector<int>& forward, const std::vector<int>& seed_counts);
 
+// The same for a map whose true image is only part of the target (a partial source): of the
+// area in cells (`seed_count` farthest-point seeds) that hold one of `true_images`, the share
+// whose cells also hold an image of `forward`. 1 when the map reaches everywhere its true
+// image does; dividing whole-target coverage by the kept share instead overshoots 1, as the
+// cells along the cut reach past it.
+double coverage_of_true_image(const TriangleMesh& target, const FastMarching& target_geodesics,
+                              const std::vector<int>& forward, const std::vector<int>& true_images, int seed_count);
+
 }  // namespace isocorr
