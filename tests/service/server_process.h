@@ -23,8 +23,9 @@ std::string slurp_file(const std::filesystem::path& path);
 CommandRun run_command(const std::string& command);
 
 // The command line that runs one of the Python gRPC scripts beside these tests against
-// `address`, generating its stubs under `work`; killed after five minutes so that a hung
-// interpreter fails its test with its output instead of stalling the suite.
+// `address`, generating its stubs under `work`. timeout(1) bounds it at five minutes: an
+// interpreter that never exits then fails its test with its output instead of stalling the
+// suite.
 std::string python_grpc_command(const std::string& script, const std::string& address,
                                 const std::filesystem::path& work);
 
