@@ -180,14 +180,6 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
   return whole;
 }
 
-// Share of the target's area whose vertices have a counterpart.
-double matched_area_share(const PreprocessedShape& target, const std::vector<int>& reverse) {
-  const std::vector<double> areas = vertex_areas(target.mesh());
-  double matched = 0, total = 0;
-  for (size_t t = 0; t < areas.size(); ++t) total += areas[t], matched += reverse[t] >= 0 ? areas[t] : 0;
-  return total > 0 ? matched / total : 0;
-}
-
 }  // namespace
 
 MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShape& target,

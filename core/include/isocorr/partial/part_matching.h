@@ -56,4 +56,7 @@ std::vector<PartMapEvidence> measure_part_maps(const PreprocessedShape& source, 
 void add_part_reverse_map(const PreprocessedShape& source, const PreprocessedShape& target, double scale,
                           DenseMap& dense);
 
+// Share of the target's area whose vertices have a counterpart in `reverse` (not -1).
+double matched_area_share(const PreprocessedShape& target, const std::vector<int>& reverse);
+
 }  // namespace isocorr
