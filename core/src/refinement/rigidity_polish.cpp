@@ -113,10 +113,14 @@ struct RigidityPolish::System {
 
 RigidityPolish::RigidityPolish(const PreprocessedShape& source, const PreprocessedShape& target,
                                const RigidityOptions& options)
+    : RigidityPolish(source, target, options, std::sqrt(target.area() / source.area())) {}
+
+RigidityPolish::RigidityPolish(const PreprocessedShape& source, const PreprocessedShape& target,
+                               const RigidityOptions& options, double scale)
     : source_(source), target_(target), options_(options) {
   if (options.iterations <= 0) return;
+  if (!(scale > 0) || !std::isfinite(scale)) throw std::logic_error("RigidityPolish: the scale must be positive");
   auto system = std::make_unique<System>();
-  const double scale = std::sqrt(target.area() / source.area());  // source units to target units
   system->rings = build_rings(source.mesh(), scale);
   system->mass = lumped_mass(source.mesh()) * (scale * scale);
   const double edge = source.mean_edge() * scale;
@@ -147,7 +151,9 @@ void RigidityPolish::apply(SpectralMap& map, const JobControl& control) const {
   const TriangleMesh& from = source.mesh();
   const TriangleMesh& to = target.mesh();
   const int n = from.num_vertices();
-  if (static_cast<int>(map.image.size()) != n || static_cast<int>(map.reverse_image.size()) != to.num_vertices())
+  const bool with_reverse = !map.reverse_image.empty();
+  if (static_cast<int>(map.image.size()) != n ||
+      (with_reverse && static_cast<int>(map.reverse_image.size()) != to.num_vertices()))
     throw std::logic_error("rigidity_polish: the map does not fit the shapes");
   const int threads = resolve_thread_count(options_.threads);
   const Rings& rings = system_->rings;
@@ -210,6 +216,7 @@ void RigidityPolish::apply(SpectralMap& map, const JobControl& control) const {
     image[v] = nearest_by_descent(to, to_topology, deformed.row(v).transpose(), image[v], squared);
     map.residual[v] = static_cast<float>(std::sqrt(squared) * inverse_diameter);
   });
+  if (!with_reverse) return;
   // The reverse map from the same deformation: each target vertex goes to the source
   // vertex whose deformed position is nearest, by descent over the source from its image.
   const MeshTopology& from_topology = source.geodesics().topology();

@@ -153,7 +153,7 @@ std::vector<SettingField> build_schema() {
           "each refined map's vertices that break geodesic distances to its anchors far more than the rest are placed again",
           [](auto& s) -> auto& { return s.outlier_repair; }),
       row("rigidity_iterations", kMatch, closed(0, 1000),
-          "rigidity polish of each refined map: as-rigid-as-possible iterations per fit weight (0 = none)",
+          "rigidity polish of each refined map and of a part search map: as-rigid-as-possible iterations per fit weight (0 = none)",
           [](auto& s) -> auto& { return s.rigidity.iterations; }),
       row("dense_choice_sources", kMatch, closed(1, 64),
           "geodesic fields per refined candidate for its dense distortion",

@@ -37,11 +37,17 @@ struct RigidityOptions {
 class RigidityPolish {
  public:
   RigidityPolish(const PreprocessedShape& source, const PreprocessedShape& target, const RigidityOptions& options);
+  // For a source that is only a part of the target's shape: their areas do not give the
+  // scale, so `source_to_target` (target length per source length, 1 / kappa) does.
+  RigidityPolish(const PreprocessedShape& source, const PreprocessedShape& target, const RigidityOptions& options,
+                 double source_to_target);
   ~RigidityPolish();
 
   // Replaces map.image / residual and map.reverse_image / reverse_residual (clean
   // numbering) by the polished maps; the residual becomes the distance between a vertex's
   // deformed position and its image, divided by the target's diameter. map.c is kept.
+  // An empty map.reverse_image asks for the forward map only (a part's reverse map marks
+  // target vertices without a counterpart, which the nearest deformed vertex cannot).
   // Deterministic; `control` is checked between iterations.
   void apply(SpectralMap& map, const JobControl& control = {}) const;
 
