@@ -116,10 +116,12 @@ RigidityPolish::RigidityPolish(const PreprocessedShape& source, const Preprocess
     : RigidityPolish(source, target, options, std::sqrt(target.area() / source.area())) {}
 
 RigidityPolish::RigidityPolish(const PreprocessedShape& source, const PreprocessedShape& target,
-                               const RigidityOptions& options, double scale)
+                               const RigidityOptions& options, double source_to_target)
     : source_(source), target_(target), options_(options) {
   if (options.iterations <= 0) return;
-  if (!(scale > 0) || !std::isfinite(scale)) throw std::logic_error("RigidityPolish: the scale must be positive");
+  if (!(source_to_target > 0) || !std::isfinite(source_to_target))
+    throw std::logic_error("RigidityPolish: the scale must be positive");
+  const double scale = source_to_target;  // source lengths to target lengths
   auto system = std::make_unique<System>();
   system->rings = build_rings(source.mesh(), scale);
   system->mass = lumped_mass(source.mesh()) * (scale * scale);
