@@ -223,7 +223,8 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
                                  ? dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
                                                              target.normals(), dense.forward)
                                  : result.refined[result.refined_chosen].evidence.orientation;
-  if (settings.method != MatchMethod::kFull) result.target_matched_share = matched_area_share(target, dense.reverse);
+  if (settings.method != MatchMethod::kFull)
+    result.target_matched_share = matched_area_share(vertex_areas(target.mesh()), dense.reverse);
   for (const auto& note : sc.repairs) result.notes.push_back("source: " + note);
   for (const auto& note : tc.repairs) result.notes.push_back("target: " + note);
   control.report({"done", 1, 1, 1.0});

@@ -395,10 +395,11 @@ std::vector<ExtremityMap> part_search_candidates(const PartGeometry& part, const
 // The share of the part's expected image area (area(part) / kappa^2) that its dense map
 // covers on the target (kCoverEdges around each image, as the reverse map marks it); fills
 // map's reverse map.
-double covered_share(const PreprocessedShape& source, const PreprocessedShape& target, double scale, DenseMap& map) {
+double covered_share(const PreprocessedShape& source, const PreprocessedShape& target,
+                     const std::vector<double>& target_vertex_areas, double scale, DenseMap& map) {
   add_part_reverse_map(source, target, scale, map);
   const double expected_share = source.area() / (scale * scale * target.area());
-  return expected_share > 0 ? matched_area_share(target, map.reverse) / expected_share : 0;
+  return expected_share > 0 ? matched_area_share(target_vertex_areas, map.reverse) / expected_share : 0;
 }
 
 }  // namespace
@@ -451,13 +452,14 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
     return orders.at(map.source_samples.front());
   };
   std::vector<double> covered(maps.size());
+  const std::vector<double> target_vertex_areas = vertex_areas(target.mesh());
   parallel_for(static_cast<int>(maps.size()), threads, [&](int i, int) {
     dense[i] = dense_part_map(part, result.tracked[i], sample_anchors(target, result.tracked[i].pairs),
                               scales[i], visit_order(maps[i]), control);
     result.tracked[i].orientation = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
                                                                 target.normals(), dense[i].forward);
     curvature[i] = curvature_disagreement(source, target, dense[i].forward);
-    covered[i] = covered_share(source, target, scales[i], dense[i]);
+    covered[i] = covered_share(source, target, target_vertex_areas, scales[i], dense[i]);
   });
   // The winner: least curvature disagreement among the maps that keep handedness. The
   // sample distortion the candidates were grown by cannot judge them (a map grown from wrong
@@ -538,8 +540,7 @@ void add_part_reverse_map(const PreprocessedShape& source, const PreprocessedSha
     if (d != kUnreached) d /= static_cast<float>(target.diameter());
 }
 
-double matched_area_share(const PreprocessedShape& target, const std::vector<int>& reverse) {
-  const std::vector<double> areas = vertex_areas(target.mesh());
+double matched_area_share(const std::vector<double>& areas, const std::vector<int>& reverse) {
   double matched = 0, total = 0;
   for (size_t t = 0; t < areas.size(); ++t) total += areas[t], matched += reverse[t] >= 0 ? areas[t] : 0;
   return total > 0 ? matched / total : 0;

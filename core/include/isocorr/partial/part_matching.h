@@ -56,7 +56,8 @@ std::vector<PartMapEvidence> measure_part_maps(const PreprocessedShape& source, 
 void add_part_reverse_map(const PreprocessedShape& source, const PreprocessedShape& target, double scale,
                           DenseMap& dense);
 
-// Share of the target's area whose vertices have a counterpart in `reverse` (not -1).
-double matched_area_share(const PreprocessedShape& target, const std::vector<int>& reverse);
+// Share of the target's area whose vertices have a counterpart in `reverse` (not -1), from
+// the target's vertex_areas (computed once by a caller that asks for several maps).
+double matched_area_share(const std::vector<double>& target_vertex_areas, const std::vector<int>& reverse);
 
 }  // namespace isocorr
