@@ -2,7 +2,8 @@
 // dataset, flip-free %, D_grd, d_grd-dagger, Kim AUC, D_iso, seconds and peak memory per
 // pair, for three variants of the settings given (default: refined and chosen by dense
 // evidence; the C2F map alone, refine = none; the paper's pipeline, refine = none with the
-// least-D_iso rule), then how the time grows with the vertex count.
+// least-D_iso rule), then how the time grows with the vertex count. With --from-truth, the
+// refinement alone, started from the ground truth: the error it adds by itself.
 //
 // Each pair runs in a forked child so that its peak memory is its own.
 #include <sys/resource.h>
@@ -24,6 +25,7 @@
 #include "isocorr/geodesic/geodesic_diameter.h"
 #include "isocorr/matching/pipeline.h"
 #include "isocorr/mesh/mesh_io.h"
+#include "isocorr/refinement/refinement.h"
 #include "settings_flags.h"
 
 namespace {
@@ -50,18 +52,24 @@ struct PairOutcome {
   std::string error;
 };
 
-RuleOutcome score(const MatchResult& result, const TriangleMesh& target, const FastMarching& geodesics,
-                  double diameter, const GroundTruth& truth, int points) {
+RuleOutcome score_map(const std::vector<int>& forward, const TriangleMesh& target, const FastMarching& geodesics,
+                      double diameter, const GroundTruth& truth, int points) {
   EvaluationOptions options;
   options.max_points = points;
-  const GroundTruthScore s = score_against_ground_truth(target, geodesics, diameter, result.output.forward, truth, options);
+  const GroundTruthScore s = score_against_ground_truth(target, geodesics, diameter, forward, truth, options);
   RuleOutcome out;
   out.d_grd = s.mean_error;
   out.d_grd_max = s.max_error;
   out.kim_auc = s.kim_auc;
-  out.diso = result.diso;
   out.mirrored = s.mirrored_fraction;
   out.flip_free = s.flip_free;
+  return out;
+}
+
+RuleOutcome score(const MatchResult& result, const TriangleMesh& target, const FastMarching& geodesics,
+                  double diameter, const GroundTruth& truth, int points) {
+  RuleOutcome out = score_map(result.output.forward, target, geodesics, diameter, truth, points);
+  out.diso = result.diso;
   out.tracked = static_cast<int>(result.tracked.size());
   out.chosen_rank = result.tracked[result.chosen].level0_rank;
   return out;
@@ -108,6 +116,45 @@ PairOutcome run_pair(const std::string& dataset, const BenchmarkPair& pair, Matc
   return outcome;
 }
 
+// Runs in the child: the refinement alone (as the chosen candidate is refined), started
+// from the ground-truth pairs instead of a tracked map, timed with the preprocessing.
+PairOutcome run_pair_from_truth(const std::string& dataset, const BenchmarkPair& pair, const MatchSettings& settings,
+                                int points) {
+  PairOutcome outcome;
+  const LoadedMesh source = load_mesh(pair.source_path);
+  const LoadedMesh target = load_mesh(pair.target_path);
+  const GroundTruth truth = load_ground_truth(dataset, pair, source.mesh.num_vertices(), target.mesh.num_vertices());
+  const auto start = std::chrono::steady_clock::now();
+  MeshPairShapes shapes(source.mesh, target.mesh);
+  const auto s = shapes.shape(ShapeRole::kSource, settings.preprocess, {});
+  const auto t = shapes.shape(ShapeRole::kTarget, settings.preprocess, {});
+  const CleanMesh& sc = s->clean();
+  const CleanMesh& tc = t->clean();
+  std::vector<std::pair<int, int>> pairs;
+  for (size_t k = 0; k < truth.source.size(); ++k)
+    if (truth.source[k] >= 0 && truth.target[k] >= 0)
+      pairs.emplace_back(sc.input_to_clean[truth.source[k]], tc.input_to_clean[truth.target[k]]);
+  const SpectralMap map = refine_from_pairs(*s, *t, pairs, settings);
+  std::vector<int> forward(source.mesh.num_vertices());
+  for (size_t i = 0; i < forward.size(); ++i) forward[i] = tc.clean_to_input[map.image[sc.input_to_clean[i]]];
+  outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  const MeshTopology topology(target.mesh);
+  const FastMarching geodesics(target.mesh, topology);
+  outcome.variants[0] = score_map(forward, target.mesh, geodesics, estimate_geodesic_diameter(geodesics), truth, points);
+  outcome.vertices = source.mesh.num_vertices();
+  outcome.ok = true;
+  return outcome;
+}
+
+// What each pair runs and prints.
+struct RunOptions {
+  int points = 1000;
+  bool as_set_only = false;  // skip the C2F and paper variants
+  bool candidates = false;   // score every refined candidate too
+  bool from_truth = false;   // the refinement alone, from the ground truth (implies as_set_only)
+};
+
 std::string serialise(const PairOutcome& o) {
   std::ostringstream out;
   out.precision(9);
@@ -141,7 +188,7 @@ PairOutcome deserialise(const std::string& line) {
 }
 
 PairOutcome run_in_child(const std::string& dataset, const BenchmarkPair& pair, const MatchSettings& settings,
-                         int points, bool as_set_only, bool candidates) {
+                         const RunOptions& run) {
   int fds[2];
   if (pipe(fds) != 0) return {false, 0, 0, 0, {}, {}, "pipe failed"};
   const pid_t pid = fork();
@@ -149,7 +196,8 @@ PairOutcome run_in_child(const std::string& dataset, const BenchmarkPair& pair, 
     close(fds[0]);
     PairOutcome outcome;
     try {
-      outcome = run_pair(dataset, pair, settings, points, as_set_only, candidates);
+      outcome = run.from_truth ? run_pair_from_truth(dataset, pair, settings, run.points)
+                               : run_pair(dataset, pair, settings, run.points, run.as_set_only, run.candidates);
     } catch (const std::exception& e) {
       outcome.error = e.what();
     }
@@ -193,18 +241,23 @@ int main(int argc, char** argv) {
   CLI::App app{"isocorr-bench: accuracy and speed on the benchmark datasets' pairs.tsv lists"};
   std::vector<std::string> datasets;
   std::string data_root = "../shared/data", protocol;
-  int limit = 0, points = 1000;
-  bool as_set_only = false, candidates = false;
+  int limit = 0;
+  RunOptions run;
   MatchSettings settings;
   app.add_option("datasets", datasets, "dataset folders under --data (default: tosca_hires faust_reg6890 scape)");
   app.add_option("--data", data_root, "root of the benchmark data")->capture_default_str();
   app.add_option("--limit", limit, "at most this many pairs per dataset (0 = all)")->capture_default_str();
   app.add_option("--protocol", protocol, "only pairs whose protocol column contains this");
-  app.add_option("--points", points, "ground-truth points scored per pair")->capture_default_str();
-  app.add_flag("--as-set-only", as_set_only, "score only the settings given (skip the C2F and paper variants)");
-  app.add_flag("--candidates", candidates, "print every refined candidate's dense evidence and ground-truth score");
+  app.add_option("--points", run.points, "ground-truth points scored per pair")->capture_default_str();
+  app.add_flag("--as-set-only", run.as_set_only, "score only the settings given (skip the C2F and paper variants)");
+  app.add_flag("--candidates", run.candidates, "print every refined candidate's dense evidence and ground-truth score");
+  app.add_flag("--from-truth", run.from_truth,
+               "refine from the ground-truth correspondences instead of the tracked maps (the error the "
+               "refinement adds by itself; implies --as-set-only)");
   isocorr::cli::add_match_settings_flags(app, settings);
   CLI11_PARSE(app, argc, argv);
+  run.as_set_only = run.as_set_only || run.from_truth;
+  const char* first_label = run.from_truth ? "from truth" : "as set";
   if (datasets.empty()) datasets = {"tosca_hires", "faust_reg6890", "scape"};
 
   std::printf("flip-free rule: mean error < 0.1 of the diameter and at most 5%% of points nearer their mirror image "
@@ -222,15 +275,16 @@ int main(int argc, char** argv) {
       if (!protocol.empty() && pair.protocol.find(protocol) == std::string::npos) continue;
       if (limit > 0 && taken >= limit) break;
       ++taken;
-      const PairOutcome o = run_in_child(dir, pair, settings, points, as_set_only, candidates);
+      const PairOutcome o = run_in_child(dir, pair, settings, run);
       const auto stem = [](const std::string& p) { return std::filesystem::path(p).stem().string(); };
       if (o.ok) {
         std::printf("%-14s %-12s -> %-12s V=%6d %7.2f s %6.0f MB", name.c_str(), stem(pair.source_path).c_str(),
                     stem(pair.target_path).c_str(), o.vertices, o.seconds, o.peak_mb);
-        const char* labels[] = {"as set", "C2F", "paper"};
-        for (int i = 0; i < (as_set_only ? 1 : 3); ++i)
-          std::printf(" | %s: %s D_grd %.4f #%d", labels[i], o.variants[i].flip_free ? "ok  " : "FLIP",
-                      o.variants[i].d_grd, o.variants[i].chosen_rank + 1);
+        const char* labels[] = {first_label, "C2F", "paper"};
+        for (int i = 0; i < (run.as_set_only ? 1 : 3); ++i) {
+          std::printf(" | %s: %s D_grd %.4f", labels[i], o.variants[i].flip_free ? "ok  " : "FLIP", o.variants[i].d_grd);
+          if (!run.from_truth) std::printf(" #%d", o.variants[i].chosen_rank + 1);  // the tracked map's level-0 rank
+        }
         std::printf("\n");
         for (const CandidateOutcome& c : o.candidates)
           std::printf("    candidate%s orientation %.3f neighbourhood %.3f distortion %.4f round trip %.4f signature %.4f"
@@ -249,8 +303,8 @@ int main(int argc, char** argv) {
     for (const auto& o : outcomes)
       if (o.ok) ++ok, seconds += o.seconds, peak = std::max(peak, o.peak_mb);
     std::printf("== %s: %d pairs, %.2f s per pair, peak %.0f MB\n", name.c_str(), ok, ok ? seconds / ok : 0.0, peak);
-    print_rule_row("as set", outcomes, 0);
-    if (as_set_only) continue;
+    print_rule_row(first_label, outcomes, 0);
+    if (run.as_set_only) continue;
     print_rule_row("C2F only", outcomes, 1);
     print_rule_row("paper", outcomes, 2);
   }

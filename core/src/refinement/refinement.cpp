@@ -51,13 +51,49 @@ bool same_dense_map(const std::vector<int>& a, const std::vector<int>& b, const 
   return same_images(at_a, at_b, target_topology);
 }
 
+void require_spectral_bases(const PreprocessedShape& source, const PreprocessedShape& target) {
+  if (source.spectral_basis().cols() == 0 || target.spectral_basis().cols() == 0)
+    throw InputError("refinement needs the shapes' spectral basis: spectral_basis must be positive");
+}
+
+RigidityOptions rigidity_options(const MatchSettings& settings) {
+  RigidityOptions options = settings.rigidity;
+  options.threads = settings.threads;
+  return options;
+}
+
+// The last stages of every refined map. The repair goes first: the rigidity polish would
+// spread a misplaced region into its surroundings.
+OutlierRepair finish_map(const PreprocessedShape& source, const PreprocessedShape& target,
+                         const RigidityPolish& rigidity, const MatchSettings& settings, SpectralMap& map,
+                         const JobControl& control) {
+  OutlierRepair repair;
+  if (settings.outlier_repair) repair = repair_outliers(source, target, map.image, settings.threads, control);
+  rigidity.apply(map, control);
+  return repair;
+}
+
 }  // namespace
+
+SpectralMap refine_from_pairs(const PreprocessedShape& source, const PreprocessedShape& target,
+                              const std::vector<std::pair<int, int>>& pairs, const MatchSettings& settings,
+                              const JobControl& control) {
+  require_spectral_bases(source, target);
+  ZoomOutOptions options = settings.zoomout;
+  options.threads = settings.threads;
+  SpectralMap map = zoomout(spectral_side(source), spectral_side(target), pairs, options, control);
+  const RigidityPolish rigidity(source, target, rigidity_options(settings));
+  finish_map(source, target, rigidity, settings, map, control);
+  const int basis_before = static_cast<int>(map.c.rows());
+  zoomout_polish(spectral_side(source), spectral_side(target), options, map, control);
+  if (static_cast<int>(map.c.rows()) != basis_before) finish_map(source, target, rigidity, settings, map, control);
+  return map;
+}
 
 RefinedMatch refine_and_choose(const PreprocessedShape& source, const PreprocessedShape& target,
                                const std::vector<TrackedMap>& tracked, const std::vector<int>& ranked,
                                const MatchSettings& settings, const JobControl& control) {
-  if (source.spectral_basis().cols() == 0 || target.spectral_basis().cols() == 0)
-    throw InputError("refinement needs the shapes' spectral basis: spectral_basis must be positive");
+  require_spectral_bases(source, target);
   // The best ranked distinct tracked maps are screened by a short refinement on the
   // samples; refine_candidates of them, from the ranking and the screen in turn, go on
   // (candidate_screening.h).
@@ -79,17 +115,13 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
                             target.geodesics().topology());
 
   const SpectralSide source_side = spectral_side(source), target_side = spectral_side(target);
-  RigidityOptions rigidity_options = settings.rigidity;
-  rigidity_options.threads = settings.threads;
-  const RigidityPolish rigidity(source, target, rigidity_options);
+  const RigidityPolish rigidity(source, target, rigidity_options(settings));
   // Candidates are finished before the choice, not only the winner: a right map that
   // converged less well (SCAPE 001 -> 004, 006: D_grd 0.016-0.02 against 0.010 typical)
   // lost to a turned body on heat signatures; finished, it wins (signature 0.0145 against
-  // 0.0150 on 001 -> 004). The repair goes first: the rigidity polish would spread a
-  // misplaced region into its surroundings.
+  // 0.0150 on 001 -> 004).
   auto finish = [&](SpectralMap& map, OutlierRepair& repair) {
-    if (settings.outlier_repair) repair = repair_outliers(source, target, map.image, settings.threads, control);
-    rigidity.apply(map, control);
+    repair = finish_map(source, target, rigidity, settings, map, control);
   };
   std::vector<SpectralMap> maps;
   std::vector<int> refined;  // the tracked map of each of `maps`

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "isocorr/matching/dense_map.h"
@@ -37,5 +38,15 @@ struct RefinedMatch {
 RefinedMatch refine_and_choose(const PreprocessedShape& source, const PreprocessedShape& target,
                                const std::vector<TrackedMap>& tracked, const std::vector<int>& ranked,
                                const MatchSettings& settings, const JobControl& control);
+
+// One map refined as the chosen candidate is, from (source vertex, target vertex) pairs in
+// the shapes' clean numbering instead of a tracked map: ZoomOut from the pairs up to
+// settings.zoomout.k_end, then the outlier repair, the rigidity polish and the optional
+// spectral polish (zoomout_polish_k_end) as `settings` say.
+// Started from the ground truth, its error is the refinement's own, whatever the start
+// (isocorr-bench --from-truth). At least settings.zoomout.k_start pairs.
+SpectralMap refine_from_pairs(const PreprocessedShape& source, const PreprocessedShape& target,
+                              const std::vector<std::pair<int, int>>& pairs, const MatchSettings& settings,
+                              const JobControl& control = {});
 
 }  // namespace isocorr
