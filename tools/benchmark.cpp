@@ -120,6 +120,7 @@ PairOutcome run_pair(const std::string& dataset, const BenchmarkPair& pair, Matc
 // from the ground-truth pairs instead of a tracked map, timed with the preprocessing.
 PairOutcome run_pair_from_truth(const std::string& dataset, const BenchmarkPair& pair, const MatchSettings& settings,
                                 int points) {
+  settings.validate();
   PairOutcome outcome;
   const LoadedMesh source = load_mesh(pair.source_path);
   const LoadedMesh target = load_mesh(pair.target_path);
