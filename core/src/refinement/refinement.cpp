@@ -73,6 +73,16 @@ OutlierRepair finish_map(const PreprocessedShape& source, const PreprocessedShap
   return repair;
 }
 
+// The optional spectral polish of a finished map (zoomout_polish_k_end): it starts from the
+// map's functional map and leaves a spectral map, so `finish` runs again when it ran.
+template <class Finish>
+void spectral_polish(const SpectralSide& source_side, const SpectralSide& target_side, const ZoomOutOptions& options,
+                     SpectralMap& map, const JobControl& control, const Finish& finish) {
+  const int basis_before = static_cast<int>(map.c.rows());
+  zoomout_polish(source_side, target_side, options, map, control);
+  if (static_cast<int>(map.c.rows()) != basis_before) finish();
+}
+
 }  // namespace
 
 SpectralMap refine_from_pairs(const PreprocessedShape& source, const PreprocessedShape& target,
@@ -81,12 +91,12 @@ SpectralMap refine_from_pairs(const PreprocessedShape& source, const Preprocesse
   require_spectral_bases(source, target);
   ZoomOutOptions options = settings.zoomout;
   options.threads = settings.threads;
-  SpectralMap map = zoomout(spectral_side(source), spectral_side(target), pairs, options, control);
+  const SpectralSide source_side = spectral_side(source), target_side = spectral_side(target);
+  SpectralMap map = zoomout(source_side, target_side, pairs, options, control);
   const RigidityPolish rigidity(source, target, rigidity_options(settings));
-  finish_map(source, target, rigidity, settings, map, control);
-  const int basis_before = static_cast<int>(map.c.rows());
-  zoomout_polish(spectral_side(source), spectral_side(target), options, map, control);
-  if (static_cast<int>(map.c.rows()) != basis_before) finish_map(source, target, rigidity, settings, map, control);
+  auto finish = [&] { finish_map(source, target, rigidity, settings, map, control); };
+  finish();
+  spectral_polish(source_side, target_side, options, map, control, finish);
   return map;
 }
 
@@ -183,12 +193,9 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
     measure(result.chosen, result.candidates[result.chosen]);
   }
   result.repair = repairs[result.chosen];
-  // The optional spectral polish of the winner starts from its spectral functional map and
-  // leaves a spectral map: finish it again. The candidates' evidence describes their maps
-  // before it: it decided the choice.
-  const int basis_before = static_cast<int>(winner.c.rows());
-  zoomout_polish(source_side, target_side, options, winner, control);
-  if (static_cast<int>(winner.c.rows()) != basis_before) finish(winner, result.repair);
+  // The candidates' evidence describes their maps before the spectral polish: it decided
+  // the choice.
+  spectral_polish(source_side, target_side, options, winner, control, [&] { finish(winner, result.repair); });
   result.candidates[result.chosen].forward = winner.image;
   result.dense.forward = std::move(winner.image);
   result.dense.forward_diso = std::move(winner.residual);
