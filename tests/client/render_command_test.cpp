@@ -24,7 +24,7 @@ class RenderCommand : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = new fs::path(fs::temp_directory_path() / ("isocorr_render_test_" + std::to_string(getpid())));
     fs::create_directories(*dir_);
-    ASSERT_EQ(run_shell(std::string(ISOCORR_MAKE_EXAMPLES_PATH) + " " + dir_->string()).exit_code, 0);
+    ASSERT_EQ(run_shell(std::string(ISOCORR_MAKE_EXAMPLES_PATH) + " " + dir_->string() + " --subdivisions 4").exit_code, 0);
   }
   static void TearDownTestSuite() {
     fs::remove_all(*dir_);
