@@ -10,7 +10,7 @@ seconds="${FUZZ_SECONDS:-15}"
 launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 
-cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_CXX_COMPILER=clang++ \
   -DISOCORR_FUZZ=ON -DISOCORR_SANITIZE=address,undefined -DISOCORR_BUILD_TESTS=OFF -DISOCORR_BUILD_SERVICE=OFF \
   "${launcher[@]}" >/dev/null
 cmake --build "$build" -j "$(nproc)"

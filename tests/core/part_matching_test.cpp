@@ -42,10 +42,17 @@ TEST(PartialCut, KeepsTheAskedShareAndPointsBackToTheFullMesh) {
 // Parts keeping this share of the creature's area are matched reliably today (issue 11).
 constexpr double kKeptArea = 0.9;
 
-class PartOfBlob : public ::testing::Test {
+// The creature (limbed_blob of `Subdivisions`) and its rotated, scaled, renumbered copy.
+// PartOfBlob (2562 vertices) runs every check; PartOfCoarseBlob (642 vertices) runs the holed
+// part and RAVAC: the same threaded part pipelines at a quarter of the cost, which the
+// sanitizer runs take instead (scripts/sanitize.sh: 400-570 s a test under TSan on the fine
+// creature). Cut parts of the coarse creature leave too few vertices deep in the cut to check
+// what the target keeps unmatched, so the cut tests stay fine only.
+template <int Subdivisions>
+class PartOf : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    full_ = new TriangleMesh(limbed_blob(4));
+    full_ = new TriangleMesh(limbed_blob(Subdivisions));
     copy_ = new RenumberedCopy(rotated_scaled_renumbered(*full_, 2.5, 11));
   }
   static void TearDownTestSuite() {
@@ -67,15 +74,21 @@ class PartOfBlob : public ::testing::Test {
   // A part cut of this kind (kKeptArea kept) lands on its place in the copy, at the
   // copy's scale, and the target it leaves out is marked as without counterpart.
   static void expect_part_maps_onto_its_place(CutKind kind);
+  static void expect_part_with_holes_matches();
+  static void expect_two_partial_meshes_match();
   static TriangleMesh* full_;
   static RenumberedCopy* copy_;
 };
-TriangleMesh* PartOfBlob::full_ = nullptr;
-RenumberedCopy* PartOfBlob::copy_ = nullptr;
+template <int Subdivisions>
+TriangleMesh* PartOf<Subdivisions>::full_ = nullptr;
+template <int Subdivisions>
+RenumberedCopy* PartOf<Subdivisions>::copy_ = nullptr;
+using PartOfBlob = PartOf<4>;
+using PartOfCoarseBlob = PartOf<3>;
 
-// One test per cut kind: each runs the whole part pipeline, which under TSan takes minutes
-// (both kinds in one test took 534 s of ctest's 600 s timeout on a loaded machine).
-void PartOfBlob::expect_part_maps_onto_its_place(CutKind kind) {
+// One test per cut kind: each runs the whole part pipeline (14-19 s in Release).
+template <int Subdivisions>
+void PartOf<Subdivisions>::expect_part_maps_onto_its_place(CutKind kind) {
   CutSpec spec;
   spec.kind = kind;
   spec.keep_area = kKeptArea;
@@ -128,9 +141,10 @@ TEST_F(PartOfBlob, APlaneCutPartMapsOntoItsPlaceAtAnyScaleAndTheRestHasNoCounter
   expect_part_maps_onto_its_place(CutKind::kPlane);
 }
 
-TEST_F(PartOfBlob, APartWithHolesIsMatchedAndTheReportSaysWhichMapWasKept) {
-  // Holes barely move distances or the spectrum: both the part search and the complete
-  // pipeline compete, and the map kept must be a right one.
+// Holes barely move distances or the spectrum: both the part search and the complete
+// pipeline compete, and the map kept must be a right one.
+template <int Subdivisions>
+void PartOf<Subdivisions>::expect_part_with_holes_matches() {
   CutSpec spec;
   spec.kind = CutKind::kHoles;
   spec.keep_area = 0.8;
@@ -147,6 +161,10 @@ TEST_F(PartOfBlob, APartWithHolesIsMatchedAndTheReportSaysWhichMapWasKept) {
   EXPECT_TRUE(says_which);
 }
 
+TEST_F(PartOfBlob, APartWithHolesIsMatchedAndTheReportSaysWhichMapWasKept) { expect_part_with_holes_matches(); }
+
+TEST_F(PartOfCoarseBlob, APartWithHolesIsMatchedAndTheReportSaysWhichMapWasKept) { expect_part_with_holes_matches(); }
+
 TEST_F(PartOfBlob, CompleteShapesStillMatchAsParts) {
   // A closed "part" has no boundary: every distance is exact and the method is plain
   // combinatorial matching with a free scale.
@@ -161,12 +179,13 @@ TEST_F(PartOfBlob, CompleteShapesStillMatchAsParts) {
   EXPECT_GT(result.target_matched_share, 0.95);
 }
 
-TEST_F(PartOfBlob, RavacMatchesTwoPartialMeshesOfTheSameCreature) {
-  // The most general setting: both meshes are partial (planes cut at different angles), so
-  // each has a region the other lacks, and the scale is unknown. As with --partial, the
-  // complete pipeline competes with the extremity maps: on this smooth creature with four
-  // limbs it wins on most cuts (RAVAC's own candidates came within 0.09 of the diameter at
-  // best, on the eight pairs of cuts tried).
+// The most general setting: both meshes are partial (planes cut at different angles), so
+// each has a region the other lacks, and the scale is unknown. As with --partial, the
+// complete pipeline competes with the extremity maps: on this smooth creature with four
+// limbs it wins on most cuts (RAVAC's own candidates came within 0.09 of the diameter at
+// best, on the eight pairs of cuts tried on the fine creature).
+template <int Subdivisions>
+void PartOf<Subdivisions>::expect_two_partial_meshes_match() {
   const PartialShape source = cut_partial_shape(*full_, {CutKind::kPlane, kKeptArea, 1, 1});
   const PartialShape target = cut_partial_shape(copy_->mesh, {CutKind::kPlane, kKeptArea, 1, 4});
   MatchSettings settings;
@@ -202,6 +221,10 @@ TEST_F(PartOfBlob, RavacMatchesTwoPartialMeshesOfTheSameCreature) {
   });
   EXPECT_TRUE(says_which);
 }
+
+TEST_F(PartOfBlob, RavacMatchesTwoPartialMeshesOfTheSameCreature) { expect_two_partial_meshes_match(); }
+
+TEST_F(PartOfCoarseBlob, RavacMatchesTwoPartialMeshesOfTheSameCreature) { expect_two_partial_meshes_match(); }
 
 }  // namespace
 }  // namespace isocorr
