@@ -29,7 +29,7 @@ class MatchCommand : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = new fs::path(fs::temp_directory_path() / ("isocorr_cli_test_" + std::to_string(getpid())));
     fs::create_directories(*dir_);
-    ASSERT_EQ(run_shell(std::string(ISOCORR_MAKE_EXAMPLES_PATH) + " " + dir_->string() + " --subdivisions 4").exit_code, 0);
+    ASSERT_EQ(run_shell(std::string(ISOCORR_MAKE_EXAMPLES_PATH) + " " + dir_->string() + " --subdivisions 3").exit_code, 0);
   }
   static void TearDownTestSuite() {
     fs::remove_all(*dir_);
