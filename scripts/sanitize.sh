@@ -9,12 +9,12 @@
 #   synthetic tests drive;
 # - the heavier repeats of a path another test already drives: the thread-count comparison
 #   (the pipeline once more on one thread: a determinism check, over 10 minutes under TSan),
-#   and the part matches on the fine creature (PartOfBlob: 400-570 s each under TSan), whose
+#   and the part matches on the fine creature (PartOfBlob: 400-570 s each under gcc's TSan), whose
 #   holed-part and RAVAC pipelines PartOfCoarseBlob runs on the coarse one.
 # TSan is built without the service (no gRPC: the job scheduler and store it races are the
 # service's gRPC-free domain library) and also leaves out the CLI's match tests (the same
 # threaded pipeline, in another process), the complete pipeline on the fine creature
-# (MatcherOnBlob.RecoversThePermutation, 280 s; MatcherSelfMatch and the coarse holed part
+# (MatcherOnBlob.RecoversThePermutation, 280 s under gcc's TSan; MatcherSelfMatch and the coarse holed part
 # run it on two threads) and the single-threaded cleaning speed test, whose 1 s budget
 # TSan's slowdown exceeds. The processes of the service tests
 # stay out of TSan for good: there it reports races inside gRPC's inline headers and threads
