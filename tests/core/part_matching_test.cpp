@@ -45,7 +45,7 @@ constexpr double kKeptArea = 0.9;
 // The creature (limbed_blob of `Subdivisions`) and its rotated, scaled, renumbered copy.
 // PartOfBlob (2562 vertices) runs every check; PartOfCoarseBlob (642 vertices) runs the holed
 // part and RAVAC: the same threaded part pipelines at a quarter of the cost, which the
-// sanitizer runs take instead (scripts/sanitize.sh: 400-570 s a test under TSan on the fine
+// sanitizer runs take instead (scripts/sanitize.sh: 400-570 s a test under gcc's TSan on the fine
 // creature). Cut parts of the coarse creature leave too few vertices deep in the cut to check
 // what the target keeps unmatched, so the cut tests stay fine only.
 template <int Subdivisions>
