@@ -4,29 +4,30 @@
 // creature's fineness (5, the default, gives 10242 vertices; the CLI tests take 3 and 4:
 // 642 and 2562).
 #include <cstdio>
-#include <cstdlib>
-#include <string>
 #include <filesystem>
 #include <fstream>
+#include <string>
+
+#include <CLI/CLI.hpp>
 
 #include "isocorr/mesh/mesh_io.h"
 #include "isocorr/mesh/procedural_meshes.h"
 
 int main(int argc, char** argv) {
-  const bool help = argc == 2 && std::string(argv[1]) == "--help";
-  const bool subdivisions_given = argc == 4 && std::string(argv[2]) == "--subdivisions";
+  CLI::App app{"Writes the bundled demo pair as a dataset folder that `isocorr eval` understands."};
+  std::string out_dir;
   int subdivisions = 5;
-  if (subdivisions_given) {
-    char* end = nullptr;
-    subdivisions = static_cast<int>(std::strtol(argv[3], &end, 10));
-    if (*end != '\0' || subdivisions < 2 || subdivisions > 7) subdivisions = -1;
-  }
-  if (help || (argc != 2 && !subdivisions_given) || subdivisions < 0) {
-    std::fprintf(stderr, "usage: isocorr-make-examples DIR [--subdivisions 2..7]\n");
-    return help ? 0 : 2;
+  app.add_option("dir", out_dir, "folder to write into")->required();
+  app.add_option("--subdivisions", subdivisions, "creature's fineness (5: 10242 vertices)")
+      ->check(CLI::Range(2, 7))
+      ->capture_default_str();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
   }
   namespace fs = std::filesystem;
-  const fs::path dir = argv[1];
+  const fs::path dir = out_dir;
   fs::create_directories(dir / "meshes");
   fs::create_directories(dir / "gt");
   const isocorr::TriangleMesh creature = isocorr::limbed_blob(subdivisions);
