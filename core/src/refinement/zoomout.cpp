@@ -236,7 +236,7 @@ void zoomout_polish(const SpectralSide& source, const SpectralSide& target, cons
   RowMatrix target_rows, pulled;
   while (k < k_end) {
     control.check_cancelled();
-    k = std::min(k + std::max(1, options.k_step), k_end);
+    k = std::min(k + std::max(1, options.polish_k_step), k_end);
     target_rows = phi_t.leftCols(k);
     pulled = refit_on_every_vertex(phi_s.leftCols(k), target_rows, fit, threads, *target.topology, map);
   }

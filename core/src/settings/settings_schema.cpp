@@ -146,6 +146,8 @@ std::vector<SettingField> build_schema() {
       row("zoomout_polish_k_end", kMatch, closed(0, 1000),
           "spectral refinement: the chosen map is refined on every vertex up to this basis size (at most zoomout_k_end: no polish)",
           [](auto& s) -> auto& { return s.zoomout.polish_k_end; }),
+      row("zoomout_polish_k_step", kMatch, closed(1, 1000), "spectral refinement: basis growth per polish step",
+          [](auto& s) -> auto& { return s.zoomout.polish_k_step; }),
       row("zoomout_commutativity", kMatch, closed(0, 1000),
           "spectral refinement: weight of the Laplacian commutativity term in each functional-map fit (0 = none)",
           [](auto& s) -> auto& { return s.zoomout.commutativity; }),
