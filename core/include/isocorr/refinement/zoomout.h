@@ -27,9 +27,9 @@ struct ZoomOutOptions {
   int dense_iterations = 1;  // refits of C on every vertex after the sampled iterations
   // zoomout_polish grows the chosen map's basis on every vertex up to polish_k_end, by
   // polish_k_step. Starting from a finished map (right at 100 functions), the higher
-  // frequencies sharpen it: first 10 pairs, 100 -> 200 functions, D_grd SCAPE 0.0103 ->
-  // 0.0083, faust_reg6890 0.0063 -> 0.0057, TOSCA 5k (all 18) 0.0166 -> 0.0146, michael
-  // 0.0164 -> 0.0094 (FAUST 5k 0.0121 -> 0.0119). Finer steps lose a little less on TOSCA
+  // frequencies sharpen it: every pair of each set, 100 -> 200 functions, D_grd SCAPE
+  // 0.0139 -> 0.0128, FAUST 5k 0.0121 -> 0.0116, TOSCA 5k 0.0166 -> 0.0153, TOSCA hi-res
+  // 0.0148 -> 0.0127 (michael 0.0164 -> 0.0094). Finer steps lose a little less on TOSCA
   // 5k (0.0146 / 0.0149 / 0.0153 in steps of 5 / 10 / 25; faust_reg6890 0.0056 at 5,
   // 0.0057 at 25) but each refit on every vertex costs O(V k^2): michael, 52K vertices,
   // 48 s per pair in steps of 25, 53 s in steps of 10.
