@@ -4,14 +4,14 @@
 #include <cmath>
 #include <numeric>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <Eigen/SparseCholesky>
-#include <Spectra/MatOp/SparseSymMatProd.h>
-#include <Spectra/SymGEigsShiftSolver.h>
 
+#include "isocorr/spectral/block_lanczos.h"
 #include "isocorr/util/error.h"
 
 namespace isocorr {
@@ -24,62 +24,76 @@ using SparseMatrix = Eigen::SparseMatrix<double>;
 // tolerance is far smaller.
 constexpr double kMissedEigenvalueGap = 1e-6;
 
-// Smallest Lanczos subspace (Spectra's ncv): small counts converge in few restarts.
-constexpr int kLanczosMinSubspace = 20;
+using BlockRow = Eigen::Matrix<double, kLanczosBlock, 1>;
+using RowMajorBlock = Eigen::Matrix<double, Eigen::Dynamic, kLanczosBlock, Eigen::RowMajor>;
 
-// y = P (L - sigma M)^-1 x for Spectra's shift-invert mode, by a sparse Cholesky (Spectra's
-// own SymShiftInvert uses a general sparse LU); L - sigma M is positive definite for sigma < 0.
-// P = I - Phi Phi^T M projects out the eigenvectors found so far (none at first), M-orthogonally
-// so that the operator stays self-adjoint in the M inner product. Spectra passes x = M v, so
-// the operator is P (L - sigma M)^-1 M P.
+// (L - sigma M)^-1 x for a whole Lanczos block: what the factor's own solve does (permute,
+// L, D, L^T, permute back), with the factor read once for the block instead of once per
+// column (on 52K vertices the per-column solves were a third of the eigensolve).
+Eigen::MatrixXd solve_block(const Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower>& factor,
+                            const Eigen::MatrixXd& x) {
+  if (x.cols() != kLanczosBlock) return factor.solve(x);
+  const SparseMatrix& lower = factor.matrixL().nestedExpression();  // unit diagonal not stored
+  const Eigen::VectorXd& diagonal = factor.vectorD();
+  const Eigen::Index n = x.rows();
+  RowMajorBlock z = factor.permutationP() * x;
+  auto row = [&](Eigen::Index i) { return Eigen::Map<BlockRow>(z.row(i).data()); };
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const BlockRow zj = row(j);
+    for (SparseMatrix::InnerIterator it(lower, j); it; ++it)
+      if (it.row() > j) row(it.row()) -= it.value() * zj;
+  }
+  for (Eigen::Index j = 0; j < n; ++j) row(j) /= diagonal[j];
+  for (Eigen::Index j = n - 1; j >= 0; --j) {
+    BlockRow sum = BlockRow::Zero();
+    for (SparseMatrix::InnerIterator it(lower, j); it; ++it)
+      if (it.row() > j) sum += it.value() * row(it.row());
+    row(j) -= sum;
+  }
+  return factor.permutationPinv() * Eigen::MatrixXd(z);
+}
+
+// A deflated pass needs room for a Lanczos run of its own beside the k found vectors.
+constexpr int kDeflationRoom = 40;
+
+// Y = P (L - sigma M)^-1 M P X, the shift-invert operator, by a sparse Cholesky of
+// L - sigma M (positive definite for sigma < 0). It is self-adjoint in the M inner product,
+// and its largest eigenvalues 1 / (lambda - sigma) belong to the smallest lambda.
+// P = I - Phi Phi^T M projects out the eigenvectors found so far (none at first),
+// M-orthogonally so that the operator stays self-adjoint.
 class ShiftedCholeskySolve {
  public:
-  using Scalar = double;
-
-  ShiftedCholeskySolve(const SparseMatrix& stiffness, const SparseMatrix& mass, const JobControl* control)
-      : stiffness_(stiffness), mass_(mass), control_(control) {}
-
-  Eigen::Index rows() const { return stiffness_.rows(); }
-  Eigen::Index cols() const { return stiffness_.cols(); }
-
-  // Spectra calls this for every solver built on the operator; factor once per shift.
-  void set_shift(double sigma) {
-    if (factored_ && sigma == sigma_) return;
-    factor_.compute(stiffness_ - sigma * mass_);
+  ShiftedCholeskySolve(const SparseMatrix& stiffness, const Eigen::VectorXd& mass, double sigma,
+                       const JobControl* control)
+      : mass_(mass), control_(control) {
+    factor_.compute(stiffness - sigma * SparseMatrix(mass.asDiagonal()));
     if (factor_.info() != Eigen::Success || factor_.vectorD().minCoeff() <= 0) {
       throw InputError("Laplace-Beltrami basis: L - sigma M is not positive definite (sigma = " +
                        std::to_string(sigma) + "); the mesh is too degenerate");
     }
-    factored_ = true;
-    sigma_ = sigma;
   }
 
-  void deflate(const Eigen::MatrixXd& found, const Eigen::VectorXd& mass) {
+  void deflate(const Eigen::MatrixXd& found) {
     found_ = found;
-    mass_found_ = mass.asDiagonal() * found;
+    mass_found_ = mass_.asDiagonal() * found;
   }
 
-  void perform_op(const double* x_in, double* y_out) const {
+  void apply(const Eigen::MatrixXd& x, Eigen::MatrixXd& y) const {
     if (control_) control_->check_cancelled();
-    Eigen::Map<const Eigen::VectorXd> x(x_in, rows());
-    Eigen::Map<Eigen::VectorXd> y(y_out, rows());
     if (found_.cols() == 0) {
-      y = factor_.solve(x);
+      y = solve_block(factor_, mass_.asDiagonal() * x);
       return;
     }
     // Both sides: the found vectors are eigenvectors only to the solver's tolerance, and the
     // solve amplifies what is left of the low ones by up to lambda_k / |sigma|.
-    y = factor_.solve(x - mass_found_ * (found_.transpose() * x));
+    y = solve_block(factor_, mass_.asDiagonal() * x - mass_found_ * (mass_found_.transpose() * x));
     y -= found_ * (mass_found_.transpose() * y);
   }
 
  private:
-  const SparseMatrix& stiffness_;
-  const SparseMatrix& mass_;
+  const Eigen::VectorXd& mass_;
   const JobControl* control_;
   Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> factor_;
-  bool factored_ = false;
-  double sigma_ = 0;
   Eigen::MatrixXd found_, mass_found_;  // Phi and M Phi
 };
 
@@ -88,28 +102,17 @@ struct Eigenpairs {
   Eigen::MatrixXd vectors;
 };
 
-// The `count` eigenpairs of the (deflated) operator nearest sigma.
-Eigenpairs lanczos(ShiftedCholeskySolve& shifted_inverse, const SparseMatrix& mass, int count,
+// The `count` eigenpairs of the (deflated) pencil nearest sigma, ascending.
+Eigenpairs lanczos(const ShiftedCholeskySolve& shifted_inverse, const Eigen::VectorXd& mass, int count,
                    double sigma, const LaplaceBasisOptions& options) {
-  const int n = static_cast<int>(mass.rows());
-  Spectra::SparseSymMatProd<double> mass_product(mass);
-  // Spectra advises ncv >= 2 nev. Larger is not clearly faster: on michael0 (52K vertices)
-  // k = 100 took 6.1 s with ncv = 175, 5.9 s with 201, 4.9 s with 250, but k = 30 took
-  // 1.1 s with 45, 1.3 s with 61; all needed about the same number of solves.
-  const int ncv = std::min(n, std::max(2 * count + 1, kLanczosMinSubspace));
-  using Solver = Spectra::SymGEigsShiftSolver<ShiftedCholeskySolve, Spectra::SparseSymMatProd<double>,
-                                              Spectra::GEigsMode::ShiftInvert>;
-  Solver solver(shifted_inverse, mass_product, count, ncv, sigma);
-  solver.init();
-  // Largest magnitude of 1 / (lambda - sigma) = eigenvalues nearest sigma, i.e. the smallest.
-  const Eigen::Index converged = solver.compute(Spectra::SortRule::LargestMagn, options.max_restarts,
-                                                options.tolerance, Spectra::SortRule::SmallestAlge);
-  if (solver.info() != Spectra::CompInfo::Successful || converged < count) {
-    throw InputError("Laplace-Beltrami basis: the eigensolver did not converge (" +
-                     std::to_string(converged) + " of " + std::to_string(count) + " eigenpairs after " +
-                     std::to_string(solver.num_iterations()) + " restarts)");
-  }
-  return {solver.eigenvalues(), solver.eigenvectors()};
+  BlockLanczosOptions lanczos_options;
+  lanczos_options.tolerance = options.tolerance;
+  lanczos_options.max_restarts = options.max_restarts;
+  BlockLanczosResult result = largest_eigenpairs(
+      [&](const Eigen::MatrixXd& x, Eigen::MatrixXd& y) { shifted_inverse.apply(x, y); }, mass, count,
+      lanczos_options);
+  // theta = 1 / (lambda - sigma): descending theta is ascending lambda.
+  return {(1.0 / result.values.array() + sigma).matrix(), std::move(result.vectors)};
 }
 
 // Two found eigenvalues (past the constant one) that coincide to within the missed-copy gap.
@@ -204,35 +207,27 @@ LaplaceBasis laplace_eigenpairs(const Eigen::SparseMatrix<double>& stiffness, co
 
   LaplaceBasis basis;
   basis.mass = lumped;
-  SparseMatrix mass(n, n);
-  {
-    std::vector<Eigen::Triplet<double>> diagonal;
-    diagonal.reserve(n);
-    for (int v = 0; v < n; ++v) diagonal.emplace_back(v, v, basis.mass[v]);
-    mass.setFromTriplets(diagonal.begin(), diagonal.end());
-  }
   const double sigma = -options.relative_shift * stiffness.diagonal().sum() / basis.mass.sum();
 
-  ShiftedCholeskySolve shifted_inverse(stiffness, mass, options.control);
-  Eigenpairs pairs = lanczos(shifted_inverse, mass, k, sigma, options);
-  // Single-vector Lanczos finds one vector per eigenspace in exact arithmetic; the other
-  // copies of a multiple eigenvalue only appear through round-off, and Spectra may report
-  // convergence without them. Symmetric meshes hit it: on an icosphere, k = 4 returned one
-  // l = 2 vector in place of the third l = 1 vector, and k = 16 one l = 4 vector in place of
-  // the seventh l = 3 one. So look again with the found vectors projected out: an eigenvalue
-  // below the k-th is a missed copy. One eigenpair per pass: asking for more cost more
-  // (michael0, 52K vertices, k = 100: 91 solves and 2.3 s for 1, 132 and 3.6 s for 4).
-  // Skipped when the complement is too small for a Lanczos run of its own (k close to #V),
-  // and when no two found eigenvalues coincide: an exactly repeated eigenvalue needs an
-  // exact symmetry of order 3 or more (rotations of a sphere, a square grid), and such a
-  // symmetry repeats many eigenvalues, so a missed copy never comes alone. Scanned and
-  // remeshed shapes have none, and skip the 1.6 s the check costs on 52K vertices.
-  const bool room_to_check = n - k >= 2 * kLanczosMinSubspace;
+  ShiftedCholeskySolve shifted_inverse(stiffness, basis.mass, sigma, options.control);
+  Eigenpairs pairs = lanczos(shifted_inverse, basis.mass, k, sigma, options);
+  // Block Lanczos finds at most one vector per eigenspace per block column in exact
+  // arithmetic (kLanczosBlock of them); further copies of a multiple eigenvalue only appear
+  // through round-off, and convergence may be declared without them. Symmetric meshes hit
+  // it (an icosphere's l = 4 eigenvalue has 9 copies; single-vector Lanczos already missed
+  // the third l = 1 copy at k = 4). So look again with the found vectors projected out: an
+  // eigenvalue below the k-th is a missed copy. One eigenpair per pass. Skipped when the
+  // complement is too small for a Lanczos run of its own (k close to #V), and when no two
+  // found eigenvalues coincide: an exactly repeated eigenvalue needs an exact symmetry of
+  // order 3 or more (rotations of a sphere, a square grid), and such a symmetry repeats many
+  // eigenvalues, so a missed copy never comes alone. Scanned and remeshed shapes have none,
+  // and skip the check's short run.
+  const bool room_to_check = n - k >= kDeflationRoom;
   const bool repeated = has_repeated_eigenvalue(pairs.values);
   for (int pass = 0; options.complete_multiplets && room_to_check && repeated && pass < k; ++pass) {
     make_mass_orthonormal(basis.mass, pairs.vectors);
-    shifted_inverse.deflate(pairs.vectors, basis.mass);
-    const Eigenpairs missed = lanczos(shifted_inverse, mass, 1, sigma, options);
+    shifted_inverse.deflate(pairs.vectors);
+    const Eigenpairs missed = lanczos(shifted_inverse, basis.mass, 1, sigma, options);
     const double limit = pairs.values[k - 1] - kMissedEigenvalueGap * std::abs(pairs.values[k - 1]);
     const int below = static_cast<int>((missed.values.array() < limit).count());
     if (below == 0) break;

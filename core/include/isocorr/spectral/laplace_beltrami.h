@@ -33,8 +33,8 @@ struct LaplaceBasisOptions {
   double tolerance = 1e-10;
   // Lanczos can miss copies of an exactly repeated eigenvalue (symmetric meshes: spheres,
   // grids); when true and some found eigenvalues coincide, a deflated pass looks for them
-  // and swaps them in. Costs one short Lanczos run (1.6 s on 52K vertices, beside 5 s for
-  // k = 100) when nothing was missed; a mesh without coinciding eigenvalues skips it.
+  // and swaps them in. Costs one short Lanczos run when nothing was missed; a mesh without
+  // coinciding eigenvalues skips it.
   bool complete_multiplets = true;
   // Checked at every linear solve (a large mesh takes seconds to minutes); may be null.
   const JobControl* control = nullptr;
@@ -47,11 +47,12 @@ struct LaplaceBasis {
   Eigen::VectorXd mass;          // #V, the lumped mass M
 };
 
-// Computes the basis by shift-invert Lanczos (Spectra) with a sparse Cholesky of L - sigma M
-// (Eigen's SimplicialLDLT. On 52K vertices it factors in 0.07 s and solves in 3 ms, and the
-// solves are a seventh of the run, the rest being Lanczos' dense work; CHOLMOD's supernodal
-// LLT was slower, 0.13 s and 5.4 ms, its simplicial LDLT solved in 2.1 ms but whole runs
-// stayed within the noise of a shared machine, so it is not worth a dependency).
+// Computes the basis by shift-invert block Lanczos (block_lanczos.h) with a sparse Cholesky
+// of L - sigma M (Eigen's SimplicialLDLT, its triangular solves done a block at a time. On
+// 52K vertices it factors in 0.07 s; CHOLMOD's supernodal LLT was slower to factor, 0.13 s,
+// and whole runs with its simplicial LDLT stayed within the noise of a shared machine, so
+// it is not worth a dependency). 200 eigenpairs of michael0 (52K vertices) take 7 s, of
+// which the Gram-Schmidt products are most.
 // k is capped at #V - 1. Each eigenvector's largest-magnitude entry is positive, so the
 // result does not depend on the solver's start. Throws InputError for k < 1, for a vertex
 // without area (unreferenced, or only in zero-area faces: clean the mesh first) and when
