@@ -12,6 +12,7 @@
 #include "isocorr/matching/surface_descent.h"
 #include "isocorr/spectral/laplace_beltrami.h"
 #include "isocorr/util/error.h"
+#include "isocorr/util/ldlt_row_solve.h"
 #include "isocorr/util/parallel.h"
 
 namespace isocorr {
@@ -205,7 +206,8 @@ void RigidityPolish::apply(SpectralMap& map, const JobControl& control) const {
         }
         rhs.row(v) = b.transpose();
       });
-      deformed = solver.solve(rhs);
+      solve_rows_in_place(solver, rhs);
+      deformed = rhs;
       first_iteration = false;
     }
   }
