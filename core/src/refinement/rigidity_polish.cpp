@@ -148,6 +148,10 @@ void rigidity_polish(const PreprocessedShape& source, const PreprocessedShape& t
 }
 
 void RigidityPolish::apply(SpectralMap& map, const JobControl& control) const {
+  apply(map, control, options_.threads);
+}
+
+void RigidityPolish::apply(SpectralMap& map, const JobControl& control, int thread_count) const {
   if (!system_) return;
   const PreprocessedShape& source = source_;
   const PreprocessedShape& target = target_;
@@ -158,7 +162,7 @@ void RigidityPolish::apply(SpectralMap& map, const JobControl& control) const {
   if (static_cast<int>(map.image.size()) != n ||
       (with_reverse && static_cast<int>(map.reverse_image.size()) != to.num_vertices()))
     throw std::logic_error("rigidity_polish: the map does not fit the shapes");
-  const int threads = resolve_thread_count(options_.threads);
+  const int threads = resolve_thread_count(thread_count);
   const Rings& rings = system_->rings;
   const Eigen::VectorXd& mass = system_->mass;
   const MeshTopology& to_topology = target.geodesics().topology();

@@ -225,8 +225,8 @@ LaplaceBasis laplace_eigenpairs(const Eigen::SparseMatrix<double>& stiffness, co
       pairs.vectors.col(i) = merged.vectors.col(order[i]);
     }
   }
-  basis.eigenvalues = pairs.values;
-  basis.eigenvectors = pairs.vectors;
+  basis.eigenvalues = std::move(pairs.values);
+  basis.eigenvectors = std::move(pairs.vectors);
   normalise_basis(basis.mass, basis.eigenvectors);
   return basis;
 }

@@ -50,6 +50,9 @@ class RigidityPolish {
   // target vertices without a counterpart, which the nearest deformed vertex cannot).
   // Deterministic; `control` is checked between iterations.
   void apply(SpectralMap& map, const JobControl& control = {}) const;
+  // The same on `threads` workers (0 = all cores) instead of the options' count: a match
+  // that finishes several maps side by side gives each one worker.
+  void apply(SpectralMap& map, const JobControl& control, int threads) const;
 
  private:
   struct System;
