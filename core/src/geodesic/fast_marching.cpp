@@ -81,21 +81,33 @@ class Front {
 }  // namespace
 
 FastMarching::FastMarching(const TriangleMesh& mesh, const MeshTopology& topology)
-    : mesh_(mesh), topology_(topology), corners_(3 * mesh.faces.size()) {
-  for (size_t f = 0; f < mesh.faces.size(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const Vec3& c = mesh.vertices[mesh.faces[f][k]];
-      const Vec3 e_next = mesh.vertices[mesh.faces[f][(k + 1) % 3]] - c;
-      const Vec3 e_prev = mesh.vertices[mesh.faces[f][(k + 2) % 3]] - c;
-      corners_[3 * f + k] = {e_next.norm(), e_prev.norm(), e_next.dot(e_prev)};
+    : mesh_(mesh), topology_(topology) {
+  auto corner_geometry = [&](const Face& face, int k) {
+    const Vec3& c = mesh.vertices[face[k]];
+    const Vec3 e_next = mesh.vertices[face[(k + 1) % 3]] - c;
+    const Vec3 e_prev = mesh.vertices[face[(k + 2) % 3]] - c;
+    return CornerGeometry{e_next.norm(), e_prev.norm(), e_next.dot(e_prev)};
+  };
+  const int n = mesh.num_vertices();
+  wedge_offsets_.assign(n + 1, 0);
+  for (int v = 0; v < n; ++v) {
+    for (const int* f = topology.faces_begin(v); f != topology.faces_end(v); ++f) {
+      const Face& face = mesh.faces[*f];
+      for (int k = 0; k < 3; ++k) {
+        const int target = face[k];
+        if (target == v) continue;  // final when its wedges are read
+        const int next = face[(k + 1) % 3], prev = face[(k + 2) % 3];
+        wedges_.push_back({target, next == v ? prev : next, corner_geometry(face, k), next == v});
+      }
     }
+    wedge_offsets_[v + 1] = static_cast<int>(wedges_.size());
+  }
 }
 
 // Solves for the distance at corner `corner` of `face` given final distances at the next
 // and previous corners: the planar front d(x) = d_c + g.(x - c) with |g| = 1 that matches
 // both known corners. Accepted only if the front arrives from inside the triangle.
-float FastMarching::update_from_triangle(int face, int corner, double da, double db) const {
-  const CornerGeometry& g = corners_[3 * face + corner];
+float FastMarching::update_from_triangle(const CornerGeometry& g, double da, double db) {
   double best = std::min(da + g.edge_next, db + g.edge_prev);
   const double g11 = g.edge_next * g.edge_next, g12 = g.dot, g22 = g.edge_prev * g.edge_prev;
   const double det = g11 * g22 - g12 * g12;
@@ -151,28 +163,24 @@ void FastMarching::compute(const std::vector<int>& sources, Workspace& ws, float
     ws.state[v] = kFinal;
     if (v == stop_at) break;
     // Every face around v may give its other corners a better value.
-    for (const int* f = topology_.faces_begin(v); f != topology_.faces_end(v); ++f) {
-      const Face& face = mesh_.faces[*f];
-      for (int k = 0; k < 3; ++k) {
-        const int target = face[k];
-        if (ws.state[target] == kFinal) continue;
-        const int next = face[(k + 1) % 3], prev = face[(k + 2) % 3];
-        const int other = (next == v) ? prev : next;
-        float candidate;
-        if (ws.state[other] == kFinal) {
-          candidate = update_from_triangle(*f, k, d[next], d[prev]);
-        } else {
-          const CornerGeometry& g = corners_[3 * *f + k];
-          candidate = d[v] + static_cast<float>(next == v ? g.edge_next : g.edge_prev);
+    for (int i = wedge_offsets_[v]; i < wedge_offsets_[v + 1]; ++i) {
+      const Wedge& w = wedges_[i];
+      const int target = w.target;
+      if (ws.state[target] == kFinal) continue;
+      float candidate;
+      if (ws.state[w.other] == kFinal) {
+        candidate = w.vertex_is_next ? update_from_triangle(w.corner, d[v], d[w.other])
+                                     : update_from_triangle(w.corner, d[w.other], d[v]);
+      } else {
+        candidate = d[v] + static_cast<float>(w.vertex_is_next ? w.corner.edge_next : w.corner.edge_prev);
+      }
+      if (candidate < d[target]) {
+        if (ws.state[target] == kFar) {
+          ws.state[target] = kTrial;
+          ws.touched.push_back(target);
         }
-        if (candidate < d[target]) {
-          if (ws.state[target] == kFar) {
-            ws.state[target] = kTrial;
-            ws.touched.push_back(target);
-          }
-          d[target] = candidate;
-          front.update(target);
-        }
+        d[target] = candidate;
+        front.update(target);
       }
     }
   }

@@ -54,11 +54,24 @@ class FastMarching {
   struct CornerGeometry {
     double edge_next, edge_prev, dot;
   };
-  float update_from_triangle(int face, int corner, double d_next, double d_prev) const;
+  // One corner that a vertex's finalisation may update: `target`, the third vertex of the
+  // face `other`, whether the finalised vertex comes next after `target` in the face (else
+  // before it), and the target corner's geometry.
+  struct Wedge {
+    int target;
+    int other;
+    CornerGeometry corner;
+    bool vertex_is_next;
+  };
+  static float update_from_triangle(const CornerGeometry& corner, double d_next, double d_prev);
 
   const TriangleMesh& mesh_;
   const MeshTopology& topology_;
-  std::vector<CornerGeometry> corners_;  // 3 per face
+  // Every vertex's wedges, vertex by vertex (compressed rows), in the order of its faces
+  // in the topology: the inner loop then reads them in sequence, where reading faces and
+  // their corners scattered over the mesh kept it waiting on memory.
+  std::vector<int> wedge_offsets_;  // #V + 1
+  std::vector<Wedge> wedges_;
 };
 
 }  // namespace isocorr
