@@ -20,6 +20,7 @@ class Front {
     heap_.clear();
   }
   bool empty() const { return heap_.empty(); }
+  int top() const { return heap_.front(); }
   // Adds v, or moves it up after its distance was lowered.
   void update(int v) {
     if (position_[v] < 0) {
@@ -162,6 +163,9 @@ void FastMarching::compute(const std::vector<int>& sources, Workspace& ws, float
     }
     ws.state[v] = kFinal;
     if (v == stop_at) break;
+    // The next vertex to be final is most likely the front's top now: start loading its
+    // wedges while v's are processed (the first read of a vertex's wedges missed the cache).
+    if (!front.empty()) __builtin_prefetch(wedges_.data() + wedge_offsets_[front.top()]);
     // Every face around v may give its other corners a better value.
     for (int i = wedge_offsets_[v]; i < wedge_offsets_[v + 1]; ++i) {
       const Wedge& w = wedges_[i];
