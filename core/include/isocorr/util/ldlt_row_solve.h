@@ -13,7 +13,8 @@ namespace isocorr {
 
 // rows <- A^-1 rows for the factor of A: the steps of Eigen's SimplicialLDLT::solve
 // (permute, L, D, L^T, permute back; L's unit diagonal is not stored), in its order of
-// operations, so the result is the same to the last bit.
+// operations: built by gcc, the result is the same to the last bit (clang contracts other
+// multiply-adds into FMAs, which moves the last bits).
 template <int Columns>
 void solve_rows_in_place(const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower>& factor,
                          Eigen::Matrix<double, Eigen::Dynamic, Columns, Eigen::RowMajor>& rows) {
