@@ -32,7 +32,8 @@ struct ZoomOutOptions {
   // 0.0148 -> 0.0127 (michael 0.0164 -> 0.0094). Finer steps lose a little less on TOSCA
   // 5k (0.0146 / 0.0149 / 0.0153 in steps of 5 / 10 / 25; faust_reg6890 0.0056 at 5,
   // 0.0057 at 25) but each refit on every vertex costs O(V k^2): michael, 52K vertices,
-  // 48 s per pair in steps of 25, 53 s in steps of 10.
+  // 48 s per pair in steps of 25, 53 s in steps of 10 (measured with Spectra's slower
+  // eigensolver; 28 s in steps of 25 now).
   int polish_k_end = 200;
   int polish_k_step = 25;
   double commutativity = 0;  // weight of the Laplacian commutativity term in each fit

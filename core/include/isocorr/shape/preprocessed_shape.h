@@ -29,7 +29,8 @@ struct PreprocessOptions {
   int max_level0_samples = 9;   // level-0 samples kept per mesh (M' <= this)
   // Laplace-Beltrami eigenpairs kept for refinement (0 = none). The refinement runs on the
   // first 100; the rest serve the chosen map's polish (zoomout.h). They cost time: per
-  // mesh 0.24 -> 0.79 s at 5K vertices, 0.74 -> 2.4 s at 12.5K, 6.7 -> 19 s at 52K.
+  // mesh 0.24 -> 0.70 s at 5K vertices, 0.74 -> 1.8 s at 12.5K, 3.4 -> 7.1 s at 52K
+  // (block_lanczos.h; Spectra's Lanczos took 0.79, 2.4 and 19 s for 200).
   int spectral_basis = 200;
   int spectral_samples = 2000;  // evenly spread vertices the refinement iterates on
   int spectral_cells = 0;       // meshes with more vertices solve the eigenproblem on this
