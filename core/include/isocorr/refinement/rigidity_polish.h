@@ -51,7 +51,7 @@ class RigidityPolish {
   // Deterministic; `control` is checked between iterations.
   void apply(SpectralMap& map, const JobControl& control = {}) const;
   // The same on `threads` workers (0 = all cores) instead of the options' count: a match
-  // that finishes several maps side by side gives each one worker.
+  // that finishes several maps side by side shares its workers out among them.
   void apply(SpectralMap& map, const JobControl& control, int threads) const;
 
  private:
