@@ -31,6 +31,26 @@ constexpr double kResidualRounding = 10;
 // Rows rotated at a time by a thick restart (the rotation is done in place, chunk by chunk).
 constexpr Eigen::Index kRestartRows = 256;
 
+// out(c, :) += sum over the rows r of [i, i + rows) of V(r, c) weights[r] w(r, :), for c in
+// [0, cols), with rows 4 (the partial sums then fill the vector registers) or 1.
+void add_projection_of_rows(const RowMajorMatrix& v, Eigen::Index cols, const Vector& weights, const Block& w,
+                            Eigen::Index i, int rows, Block& out) {
+  auto out_row = [&](Eigen::Index c) { return Eigen::Map<BlockRow>(out.row(c).data()); };
+  auto weighted_row = [&](Eigen::Index r) { return BlockRow(weights[r] * w.row(r).transpose()); };
+  if (rows == 1) {
+    const BlockRow y = weighted_row(i);
+    const double* vi = v.row(i).data();
+    for (Eigen::Index c = 0; c < cols; ++c) out_row(c) += vi[c] * y;
+    return;
+  }
+  const BlockRow y0 = weighted_row(i), y1 = weighted_row(i + 1), y2 = weighted_row(i + 2), y3 = weighted_row(i + 3);
+  const double* v0 = v.row(i).data();
+  const double* v1 = v.row(i + 1).data();
+  const double* v2 = v.row(i + 2).data();
+  const double* v3 = v.row(i + 3).data();
+  for (Eigen::Index c = 0; c < cols; ++c) out_row(c) += v0[c] * y0 + v1[c] * y1 + v2[c] * y2 + v3[c] * y3;
+}
+
 // out = V(:, 0:cols)^T diag(weights) w, cols by kLanczosBlock. Eigen's general product
 // would first copy V into its packed layout for an eight-column right side, which costs as
 // much as the product itself; here V is read once and `out` stays in the L1 cache.
@@ -38,22 +58,9 @@ void weighted_projection(const RowMajorMatrix& v, Eigen::Index cols, const Vecto
                          Block& out) {
   const Eigen::Index n = v.rows();
   out.setZero(cols, kLanczosBlock);
-  auto out_row = [&](Eigen::Index c) { return Eigen::Map<BlockRow>(out.row(c).data()); };
-  auto weighted_row = [&](Eigen::Index i) { return BlockRow(weights[i] * w.row(i).transpose()); };
   Eigen::Index i = 0;
-  for (; i + 4 <= n; i += 4) {
-    const BlockRow y0 = weighted_row(i), y1 = weighted_row(i + 1), y2 = weighted_row(i + 2), y3 = weighted_row(i + 3);
-    const double* v0 = v.row(i).data();
-    const double* v1 = v.row(i + 1).data();
-    const double* v2 = v.row(i + 2).data();
-    const double* v3 = v.row(i + 3).data();
-    for (Eigen::Index c = 0; c < cols; ++c) out_row(c) += v0[c] * y0 + v1[c] * y1 + v2[c] * y2 + v3[c] * y3;
-  }
-  for (; i < n; ++i) {
-    const BlockRow y = weighted_row(i);
-    const double* vi = v.row(i).data();
-    for (Eigen::Index c = 0; c < cols; ++c) out_row(c) += vi[c] * y;
-  }
+  for (; i + 4 <= n; i += 4) add_projection_of_rows(v, cols, weights, w, i, 4, out);
+  for (; i < n; ++i) add_projection_of_rows(v, cols, weights, w, i, 1, out);
 }
 
 // w -= V(:, 0:cols) coefficients. With `projection`, also projection = V(:, 0:cols)^T
@@ -64,9 +71,7 @@ void subtract_combination(const RowMajorMatrix& v, Eigen::Index cols, const Bloc
   const Eigen::Index n = v.rows();
   if (projection) projection->setZero(cols, kLanczosBlock);
   auto coefficient_row = [&](Eigen::Index c) { return Eigen::Map<const BlockRow>(coefficients.row(c).data()); };
-  auto projection_row = [&](Eigen::Index c) { return Eigen::Map<BlockRow>(projection->row(c).data()); };
   auto w_row = [&](Eigen::Index i) { return Eigen::Map<BlockRow>(w.row(i).data()); };
-  auto weighted_row = [&](Eigen::Index i) { return BlockRow(weights[i] * w_row(i)); };
   Eigen::Index i = 0;
   for (; i + 4 <= n; i += 4) {
     BlockRow s0 = BlockRow::Zero(), s1 = BlockRow::Zero(), s2 = BlockRow::Zero(), s3 = BlockRow::Zero();
@@ -85,18 +90,14 @@ void subtract_combination(const RowMajorMatrix& v, Eigen::Index cols, const Bloc
     w_row(i + 1) -= s1;
     w_row(i + 2) -= s2;
     w_row(i + 3) -= s3;
-    if (!projection) continue;
-    const BlockRow y0 = weighted_row(i), y1 = weighted_row(i + 1), y2 = weighted_row(i + 2), y3 = weighted_row(i + 3);
-    for (Eigen::Index c = 0; c < cols; ++c) projection_row(c) += v0[c] * y0 + v1[c] * y1 + v2[c] * y2 + v3[c] * y3;
+    if (projection) add_projection_of_rows(v, cols, weights, w, i, 4, *projection);
   }
   for (; i < n; ++i) {
     BlockRow sum = BlockRow::Zero();
     const double* vi = v.row(i).data();
     for (Eigen::Index c = 0; c < cols; ++c) sum += vi[c] * coefficient_row(c);
     w_row(i) -= sum;
-    if (!projection) continue;
-    const BlockRow y = weighted_row(i);
-    for (Eigen::Index c = 0; c < cols; ++c) projection_row(c) += vi[c] * y;
+    if (projection) add_projection_of_rows(v, cols, weights, w, i, 1, *projection);
   }
 }
 
