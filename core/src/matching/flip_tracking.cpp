@@ -23,18 +23,44 @@ struct AnchorDistances {
   AnchorDistances(const PreprocessedShape& target, const std::vector<SamplePair>& anchors, size_t count,
                   const std::vector<int>& pool)
       : anchor_count(count), pool_rows(pool.size() * count) {
-    for (size_t j = 0; j < pool.size(); ++j) {
-      const int tv = target.sample_vertex(pool[j]);
-      for (size_t a = 0; a < count; ++a) pool_rows[j * count + a] = target.field(anchors[a].target_sample, tv);
-    }
+    for (size_t j = 0; j < pool.size(); ++j)
+      for (size_t a = 0; a < count; ++a) pool_rows[j * count + a] = target.sample_field(anchors[a].target_sample, pool[j]);
   }
   const float* pool_row(size_t j) const { return pool_rows.data() + j * anchor_count; }
 };
 
 void distances_to_anchor_sources(const PreprocessedShape& source, const std::vector<SamplePair>& anchors,
-                                 int source_vertex, std::vector<float>& out) {
+                                 int source_sample, std::vector<float>& out) {
   out.resize(anchors.size());
-  for (size_t a = 0; a < anchors.size(); ++a) out[a] = source.field(anchors[a].source_sample, source_vertex);
+  for (size_t a = 0; a < anchors.size(); ++a) out[a] = source.sample_field(anchors[a].source_sample, source_sample);
+}
+
+// The sum of term(0 .. n-1) and the largest term. The sum runs in four double lanes by
+// position (i % 4), added in lane order at the end; written as four independent chains so
+// that the compiler can keep them in one vector register (this loop runs for every
+// candidate of every tracked sample).
+struct TermTotals {
+  double total = 0;
+  float largest = 0;
+};
+
+template <class Term>
+TermTotals total_and_largest(size_t n, const Term& term) {
+  double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+  float m0 = 0, m1 = 0, m2 = 0, m3 = 0;
+  size_t i = 0;
+  for (; i + 4 <= n; i += 4) {
+    const float t0 = term(i), t1 = term(i + 1), t2 = term(i + 2), t3 = term(i + 3);
+    s0 += t0, s1 += t1, s2 += t2, s3 += t3;
+    m0 = std::max(m0, t0), m1 = std::max(m1, t1), m2 = std::max(m2, t2), m3 = std::max(m3, t3);
+  }
+  double* lanes[] = {&s0, &s1, &s2, &s3};
+  float* maxima[] = {&m0, &m1, &m2, &m3};
+  for (; i < n; ++i) {
+    *lanes[i % 4] += term(i);
+    *maxima[i % 4] = std::max(*maxima[i % 4], term(i));
+  }
+  return {s0 + s1 + s2 + s3, std::max(std::max(m0, m1), std::max(m2, m3))};
 }
 
 // d_iso(s, t | anchors) from s's distances to the first `count` anchors' sources and t's to
@@ -44,27 +70,34 @@ void distances_to_anchor_sources(const PreprocessedShape& source, const std::vec
 // `skip` (or -1) leaves one anchor out entirely. A candidate whose distortion is certainly
 // above `to_beat` (the best so far) gets +infinity without the selection of its kept terms,
 // which is most of the cost: the kept terms sum to at least the total less the dropped
-// count times the largest term, and far candidates fail that test.
+// count times the largest term, and far candidates fail that test. The terms are only
+// stored for the candidates that pass it.
 float anchored_distortion(const float* source_distances, const float* target_distances, size_t count, int skip,
                           double trim, float to_beat, std::vector<float>& scratch) {
-  scratch.resize(count);
-  for (size_t a = 0; a < count; ++a) scratch[a] = std::abs(source_distances[a] - target_distances[a]);
-  if (skip >= 0 && static_cast<size_t>(skip) < count) scratch.erase(scratch.begin() + skip);
-  if (scratch.empty()) return 0.f;
-  // Four running sums and no branch: these loops run for every candidate.
-  double sums[4] = {0, 0, 0, 0};
-  float largest = 0;
-  for (size_t a = 0; a < scratch.size(); ++a) {
-    sums[a % 4] += scratch[a];
-    largest = std::max(largest, scratch[a]);
-  }
-  const double total = sums[0] + sums[1] + sums[2] + sums[3];
-  const size_t kept = std::max<size_t>(1, static_cast<size_t>(std::lround(scratch.size() * (1.0 - trim))));
-  if (kept < scratch.size()) {
-    const double least_mean = (total - static_cast<double>(scratch.size() - kept) * largest) / kept;
+  const bool skipping = skip >= 0 && static_cast<size_t>(skip) < count;
+  const size_t size = count - (skipping ? 1 : 0);
+  if (size == 0) return 0.f;
+  auto store_terms = [&] {
+    scratch.resize(count);
+    for (size_t a = 0; a < count; ++a) scratch[a] = std::abs(source_distances[a] - target_distances[a]);
+    if (skipping) scratch.erase(scratch.begin() + skip);
+  };
+  const size_t kept = std::max<size_t>(1, static_cast<size_t>(std::lround(size * (1.0 - trim))));
+  if (kept < size) {
+    TermTotals totals;
+    if (skipping) {
+      store_terms();
+      totals = total_and_largest(size, [&](size_t i) { return scratch[i]; });
+    } else {
+      totals = total_and_largest(size, [&](size_t a) { return std::abs(source_distances[a] - target_distances[a]); });
+    }
+    const double least_mean = (totals.total - static_cast<double>(size - kept) * totals.largest) / kept;
     // The margin covers the rounding of the sums: a pruned candidate could not have won.
     if (least_mean > 1.0001 * static_cast<double>(to_beat)) return std::numeric_limits<float>::infinity();
+    if (!skipping) store_terms();
     std::nth_element(scratch.begin(), scratch.begin() + kept, scratch.end());
+  } else {
+    store_terms();
   }
   double sum = 0;
   for (size_t i = 0; i < kept; ++i) sum += scratch[i];
@@ -83,13 +116,12 @@ void reassign_pairs(const PreprocessedShape& source, const PreprocessedShape& ta
   const AnchorDistances distances(target, anchors, anchor_count, pool);
   std::vector<float> source_distances, scratch;
   for (size_t p = 0; p < pairs.size(); ++p) {
-    const int sv = source.sample_vertex(pairs[p].source_sample);
-    distances_to_anchor_sources(source, anchors, sv, source_distances);
+    distances_to_anchor_sources(source, anchors, pairs[p].source_sample, source_distances);
     const int current = pairs[p].target_sample;
     int best = current;
     float best_cost = std::numeric_limits<float>::max();
     for (size_t j = 0; j < pool.size(); ++j) {
-      if (target.field(current, target.sample_vertex(pool[j])) > radius) continue;
+      if (target.sample_field(current, pool[j]) > radius) continue;
       const float cost = anchored_distortion(source_distances.data(), distances.pool_row(j), anchor_count,
                                              static_cast<int>(p), options.trim_fraction, best_cost, scratch);
       if (cost < best_cost) best_cost = cost, best = pool[j];
@@ -109,8 +141,8 @@ void refine_to_vertices(const PreprocessedShape& source, const PreprocessedShape
   const MeshTopology& topology = target.geodesics().topology();
   std::vector<float> anchor_distances(anchor_count);
   for (size_t p = 0; p < pairs.size(); ++p) {
-    const int sv = source.sample_vertex(pairs[p].source_sample);
-    for (size_t a = 0; a < anchor_count; ++a) anchor_distances[a] = source.field(pairs[a].source_sample, sv);
+    for (size_t a = 0; a < anchor_count; ++a)
+      anchor_distances[a] = source.sample_field(pairs[a].source_sample, pairs[p].source_sample);
     float best = 0;
     pairs[p].target_vertex = descend_to_minimum(topology, target.sample_vertex(pairs[p].target_sample), [&](int w) {
       float sum = 0;
@@ -128,12 +160,11 @@ double sample_map_diso(const PreprocessedShape& source, const PreprocessedShape&
   if (pairs.size() < 2) return 0;
   double total = 0;
   for (size_t p = 0; p < pairs.size(); ++p) {
-    const int sv = source.sample_vertex(pairs[p].source_sample);
     const int tv = image_vertex(target, pairs[p]);
     double sum = 0;
     for (size_t q = 0; q < pairs.size(); ++q) {
       if (q == p) continue;
-      sum += std::abs(source.field(pairs[q].source_sample, sv) -
+      sum += std::abs(source.sample_field(pairs[q].source_sample, pairs[p].source_sample) -
                       target.field(pairs[q].target_sample, tv));
     }
     total += sum / (pairs.size() - 1);
@@ -174,7 +205,7 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
       if (matched[s] || source.sample_step(s) > 2 * level) continue;
       const int sv = source.sample_vertex(s);
       // Parent: the nearest sample matched at an earlier level.
-      distances_to_anchor_sources(source, anchors, sv, source_distances);
+      distances_to_anchor_sources(source, anchors, s, source_distances);
       const size_t parent_index = static_cast<size_t>(
           std::min_element(source_distances.begin(), source_distances.end()) - source_distances.begin());
       const SamplePair* parent = &anchors[parent_index];
@@ -189,9 +220,8 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
       float best_cost = std::numeric_limits<float>::max();
       for (int pass = first_pass; pass < 3 && best < 0; ++pass) {
         for (size_t j = 0; j < pool.size(); ++j) {
-          const int tv = target.sample_vertex(pool[j]);
-          if (pass < 2 && target.field(parent->target_sample, tv) > window) continue;
-          if (pass == 0 && !guard->accepts(tv)) continue;
+          if (pass < 2 && target.sample_field(parent->target_sample, pool[j]) > window) continue;
+          if (pass == 0 && !guard->accepts(target.sample_vertex(pool[j]))) continue;
           const float cost = anchored_distortion(source_distances.data(), distances.pool_row(j), anchor_count, -1,
                                                  options.trim_fraction, best_cost, scratch);
           if (cost < best_cost) best_cost = cost, best = pool[j];

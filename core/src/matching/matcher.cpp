@@ -13,7 +13,7 @@ Eigen::MatrixXd sample_distances(const PreprocessedShape& shape, int count) {
   for (int i = 0; i < count; ++i)
     for (int j = 0; j < count; ++j)
       // Symmetrise: fast marching is not exactly symmetric.
-      d(i, j) = 0.5 * (shape.field(i, shape.sample_vertex(j)) + shape.field(j, shape.sample_vertex(i)));
+      d(i, j) = 0.5 * (shape.sample_field(i, j) + shape.sample_field(j, i));
   return d;
 }
 

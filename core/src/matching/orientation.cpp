@@ -45,7 +45,7 @@ double orientation_agreement(const PreprocessedShape& source, const Preprocessed
     // near enough that the triangle still lies roughly in the tangent plane at a.
     for (int o = 0; o < count; ++o) {
       if (o == a) continue;
-      const float d = source.field(pairs[a].source_sample, source.sample_vertex(pairs[o].source_sample));
+      const float d = source.sample_field(pairs[a].source_sample, pairs[o].source_sample);
       if (d >= kBandLow && d <= kBandHigh) others.push_back(o);
     }
     if (others.size() < 2) continue;

@@ -94,6 +94,11 @@ std::shared_ptr<const PreprocessedShape> PreprocessedShape::build(const Triangle
   shape->diameter_ = std::max<double>(diameter, *std::max_element(farthest.begin(), farthest.end()));
   const float inverse_diameter = static_cast<float>(1.0 / shape->diameter_);
   for (float& value : shape->fields_) value = value == kUnreached ? 1.f : value * inverse_diameter;
+  const int sample_count = shape->num_samples();
+  shape->sample_fields_.resize(static_cast<size_t>(sample_count) * sample_count);
+  for (int i = 0; i < sample_count; ++i)
+    for (int j = 0; j < sample_count; ++j)
+      shape->sample_fields_[static_cast<size_t>(i) * sample_count + j] = shape->field(i, shape->sample_vertex(j));
   control.check_cancelled();
 
   if (basis.valid()) {
@@ -115,7 +120,7 @@ int PreprocessedShape::num_level0_samples() const {
 
 size_t PreprocessedShape::memory_bytes() const {
   const size_t n = mesh().num_vertices();
-  return fields_.size() * sizeof(float) + (spectral_basis_.size() + smoothed_curvature_.size()) * sizeof(float) +
+  return (fields_.size() + sample_fields_.size()) * sizeof(float) + (spectral_basis_.size() + smoothed_curvature_.size()) * sizeof(float) +
          spectral_samples_.size() * sizeof(int) + n * (sizeof(Vec3) * 2 + sizeof(float) + 3 * sizeof(int)) +
          mesh().faces.size() * sizeof(Face) * 3;
 }
