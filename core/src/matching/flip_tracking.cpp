@@ -86,15 +86,18 @@ float anchored_distortion(const float* source_distances, const float* target_dis
   if (kept < size) {
     TermTotals totals;
     if (skipping) {
-      store_terms();
-      totals = total_and_largest(size, [&](size_t i) { return scratch[i]; });
+      const size_t gap = static_cast<size_t>(skip);  // term i is anchor i, or i + 1 past the skipped one
+      totals = total_and_largest(size, [&](size_t i) {
+        const size_t a = i < gap ? i : i + 1;
+        return std::abs(source_distances[a] - target_distances[a]);
+      });
     } else {
       totals = total_and_largest(size, [&](size_t a) { return std::abs(source_distances[a] - target_distances[a]); });
     }
     const double least_mean = (totals.total - static_cast<double>(size - kept) * totals.largest) / kept;
     // The margin covers the rounding of the sums: a pruned candidate could not have won.
     if (least_mean > 1.0001 * static_cast<double>(to_beat)) return std::numeric_limits<float>::infinity();
-    if (!skipping) store_terms();
+    store_terms();
     std::nth_element(scratch.begin(), scratch.begin() + kept, scratch.end());
   } else {
     store_terms();
