@@ -142,8 +142,8 @@ void refine_to_vertices(const PreprocessedShape& source, const PreprocessedShape
                         const TrackingOptions& options, std::vector<SamplePair>& pairs) {
   const size_t anchor_count = std::min(pairs.size(), static_cast<size_t>(options.anchor_cap));
   const MeshTopology& topology = target.geodesics().topology();
-  // Pair p's anchors are all the others: their distances from p's source sample, and the
-  // fields of their images.
+  // Pair p's anchors are the first anchor_count pairs but p itself: their distances from
+  // p's source sample, and the fields of their images.
   std::vector<float> anchor_distances;
   std::vector<const float*> anchor_fields;
   for (size_t p = 0; p < pairs.size(); ++p) {
