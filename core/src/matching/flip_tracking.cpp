@@ -77,31 +77,22 @@ float anchored_distortion(const float* source_distances, const float* target_dis
   const bool skipping = skip >= 0 && static_cast<size_t>(skip) < count;
   const size_t size = count - (skipping ? 1 : 0);
   if (size == 0) return 0.f;
-  auto store_terms = [&] {
-    scratch.resize(count);
-    for (size_t a = 0; a < count; ++a) scratch[a] = std::abs(source_distances[a] - target_distances[a]);
-    if (skipping) scratch.erase(scratch.begin() + skip);
+  // Term i is anchor i's, or anchor i + 1's past the skipped one.
+  const size_t gap = skipping ? static_cast<size_t>(skip) : count;
+  auto term = [&](size_t i) {
+    const size_t a = i < gap ? i : i + 1;
+    return std::abs(source_distances[a] - target_distances[a]);
   };
   const size_t kept = std::max<size_t>(1, static_cast<size_t>(std::lround(size * (1.0 - trim))));
   if (kept < size) {
-    TermTotals totals;
-    if (skipping) {
-      const size_t gap = static_cast<size_t>(skip);  // term i is anchor i, or i + 1 past the skipped one
-      totals = total_and_largest(size, [&](size_t i) {
-        const size_t a = i < gap ? i : i + 1;
-        return std::abs(source_distances[a] - target_distances[a]);
-      });
-    } else {
-      totals = total_and_largest(size, [&](size_t a) { return std::abs(source_distances[a] - target_distances[a]); });
-    }
+    const TermTotals totals = total_and_largest(size, term);
     const double least_mean = (totals.total - static_cast<double>(size - kept) * totals.largest) / kept;
     // The margin covers the rounding of the sums: a pruned candidate could not have won.
     if (least_mean > 1.0001 * static_cast<double>(to_beat)) return std::numeric_limits<float>::infinity();
-    store_terms();
-    std::nth_element(scratch.begin(), scratch.begin() + kept, scratch.end());
-  } else {
-    store_terms();
   }
+  scratch.resize(size);
+  for (size_t i = 0; i < size; ++i) scratch[i] = term(i);
+  if (kept < size) std::nth_element(scratch.begin(), scratch.begin() + kept, scratch.end());
   double sum = 0;
   for (size_t i = 0; i < kept; ++i) sum += scratch[i];
   return static_cast<float>(sum / kept);

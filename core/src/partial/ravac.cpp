@@ -46,7 +46,8 @@ Points points_of(const PreprocessedShape& shape, const std::vector<float>& bound
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
       const int vi = shape.sample_vertex(points.samples[i]), vj = shape.sample_vertex(points.samples[j]);
-      const double d = 0.5 * (shape.field(points.samples[i], vj) + shape.field(points.samples[j], vi)) * shape.diameter();
+      const double d = 0.5 * (shape.sample_field(points.samples[i], points.samples[j]) +
+                                shape.sample_field(points.samples[j], points.samples[i])) * shape.diameter();
       points.distance[i][j] = d;
       points.exact[i][j] = d < boundary[vi] + boundary[vj];
     }

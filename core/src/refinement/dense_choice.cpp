@@ -87,7 +87,7 @@ DenseEvidence measure_dense_map(const PreprocessedShape& source, const Preproces
       if (b == a) continue;
       const float reached = ws.distance[forward[source.sample_vertex(b)]];
       const double d_target = reached == kUnreached ? 1.0 : reached * inverse_diameter;
-      sums[a] += std::abs(source.field(a, source.sample_vertex(b)) - d_target);
+      sums[a] += std::abs(source.sample_field(a, b) - d_target);
     }
   });
   double total = 0;

@@ -57,7 +57,7 @@ OutlierRepair repair_outliers(const PreprocessedShape& source, const Preprocesse
     std::vector<double> gaps;
     for (int b = 0; b < candidates; ++b)
       if (b != a)
-        gaps.push_back(std::abs(source.field(a, source.sample_vertex(b)) - target_field(a, forward[source.sample_vertex(b)])));
+        gaps.push_back(std::abs(source.sample_field(a, b) - target_field(a, forward[source.sample_vertex(b)])));
     consistency[a] = median(std::move(gaps));
   }
   const double anchor_limit = kAnchorFactor * median(consistency) + kAnchorFloor;
