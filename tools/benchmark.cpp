@@ -40,7 +40,7 @@ struct RuleOutcome {
 // One refined candidate of the "as set" run: its dense evidence and its ground-truth score.
 struct CandidateOutcome {
   double orientation = 0, neighbourhood = 0, distortion = 0, round_trip = 0, signature = 0, curvature = 0, d_grd = 0;
-  int flip_free = 0, chosen = 0;
+  int flip_free = 0, chosen = 0, finished = 0;
 };
 
 struct PairOutcome {
@@ -108,7 +108,7 @@ PairOutcome run_pair(const std::string& dataset, const BenchmarkPair& pair, Matc
       outcome.candidates.push_back({c.evidence.orientation, c.evidence.neighbourhood_orientation, c.evidence.distortion,
                                     c.evidence.round_trip, c.evidence.signature_disagreement,
                                     c.evidence.curvature_disagreement, s.mean_error,
-                                    s.flip_free, static_cast<int>(i) == as_set.refined_chosen});
+                                    s.flip_free, static_cast<int>(i) == as_set.refined_chosen, c.finished});
     }
   }
   outcome.vertices = source.mesh.num_vertices();
@@ -166,7 +166,8 @@ std::string serialise(const PairOutcome& o) {
   out << ' ' << o.candidates.size();
   for (const CandidateOutcome& c : o.candidates)
     out << ' ' << c.orientation << ' ' << c.neighbourhood << ' ' << c.distortion << ' ' << c.round_trip << ' '
-        << c.signature << ' ' << c.curvature << ' ' << c.d_grd << ' ' << c.flip_free << ' ' << c.chosen;
+        << c.signature << ' ' << c.curvature << ' ' << c.d_grd << ' ' << c.flip_free << ' ' << c.chosen << ' '
+        << c.finished;
   out << ' ' << o.error;
   return out.str();
 }
@@ -183,7 +184,7 @@ PairOutcome deserialise(const std::string& line) {
   o.candidates.resize(count);
   for (CandidateOutcome& c : o.candidates)
     in >> c.orientation >> c.neighbourhood >> c.distortion >> c.round_trip >> c.signature >> c.curvature >> c.d_grd >>
-        c.flip_free >> c.chosen;
+        c.flip_free >> c.chosen >> c.finished;
   std::getline(in >> std::ws, o.error);
   return o;
 }
@@ -288,9 +289,10 @@ int main(int argc, char** argv) {
         }
         std::printf("\n");
         for (const CandidateOutcome& c : o.candidates)
-          std::printf("    candidate%s orientation %.3f neighbourhood %.3f distortion %.4f round trip %.4f signature %.4f"
-                      " curvature %.4f | %s D_grd %.4f\n", c.chosen ? "*" : " ", c.orientation, c.neighbourhood,
-                      c.distortion, c.round_trip, c.signature, c.curvature, c.flip_free ? "ok  " : "FLIP", c.d_grd);
+          std::printf("    candidate%s %s orientation %.3f neighbourhood %.3f distortion %.4f round trip %.4f"
+                      " signature %.4f curvature %.4f | %s D_grd %.4f\n", c.chosen ? "*" : " ",
+                      c.finished ? "finished" : "raw     ", c.orientation, c.neighbourhood, c.distortion, c.round_trip,
+                      c.signature, c.curvature, c.flip_free ? "ok  " : "FLIP", c.d_grd);
         scaling.push_back({o.vertices, o.seconds});
       } else {
         std::printf("%-14s %-12s -> %-12s FAILED: %s\n", name.c_str(), stem(pair.source_path).c_str(),
