@@ -207,6 +207,24 @@ TEST(DenseChoice, ASwappedLimbLosesOnDistortionATurnedBodyOnCurvature) {
   EXPECT_NE(why.find("distortion"), std::string::npos);
 }
 
+// A right map in a stretched pose can be more distorted than a turned body (SCAPE
+// 003 -> 014: 29% more); its curvature agrees 11% better, and curvature outweighs
+// distortion per cent for per cent. The plain product of the two chose the turned body.
+TEST(DenseChoice, ARightMapMoreDistortedThanATurnedBodyWinsOnCurvature) {
+  std::vector<DenseCandidate> candidates(2);
+  candidates[0].evidence.orientation = 0.78;  // turned
+  candidates[0].evidence.curvature_disagreement = 0.1612;
+  candidates[0].evidence.distortion = 0.0253;
+  candidates[1].evidence.orientation = 0.77;  // right
+  candidates[1].evidence.curvature_disagreement = 0.1450;
+  candidates[1].evidence.distortion = 0.0326;
+  std::string why;
+  EXPECT_EQ(choose_dense_candidate(candidates, 0.1, why), 1);
+  EXPECT_LT(candidates[0].evidence.curvature_disagreement * candidates[0].evidence.distortion,
+            candidates[1].evidence.curvature_disagreement * candidates[1].evidence.distortion);
+  EXPECT_DOUBLE_EQ(candidates[1].score, choice_score(candidates[1].evidence));
+}
+
 // A right map with a few misplaced regions keeps fewer faces' handedness than a clean
 // turned body; it is still no mirror, and it wins on curvature. Only when no candidate
 // keeps most faces does the relative margin decide.

@@ -103,6 +103,10 @@ DenseEvidence measure_dense_map(const PreprocessedShape& source, const Preproces
   return evidence;
 }
 
+double choice_score(const DenseEvidence& evidence) {
+  return evidence.curvature_disagreement * std::cbrt(evidence.distortion);
+}
+
 double mirror_threshold(double best_orientation, double orientation_margin) {
   return std::min(kMirrorOrientation, best_orientation - orientation_margin);
 }
@@ -113,7 +117,7 @@ int choose_dense_candidate(std::vector<DenseCandidate>& candidates, double orien
   const double threshold = mirror_threshold(best_orientation, orientation_margin);
   bool any_finished = false;
   for (DenseCandidate& c : candidates) {
-    c.score = c.evidence.curvature_disagreement * c.evidence.distortion;
+    c.score = choice_score(c.evidence);
     c.mirrored = c.evidence.orientation < threshold;
     any_finished = any_finished || (!c.mirrored && c.finished);
   }
@@ -125,7 +129,7 @@ int choose_dense_candidate(std::vector<DenseCandidate>& candidates, double orien
   }
   char text[300];
   std::snprintf(text, sizeof text,
-                "least curvature disagreement x distortion (%.6f) among the %d of %d refined candidates that keep the "
+                "least curvature disagreement x cube root of distortion (%.6f) among the %d of %d refined candidates that keep the "
                 "handedness of at least %.3f of the faces (best %.3f)%s",
                 candidates[winner].score,
                 static_cast<int>(std::count_if(candidates.begin(), candidates.end(),

@@ -14,8 +14,18 @@
 // Curvature cannot see a swapped limb (a map that sends the left leg to the right one looks
 // at the same shapes), and once more starts were screened such maps won on it by under 2%
 // (SCAPE 002 -> 007, 002 -> 008, 004 -> 011). Their seams tear geodesics: their distortion
-// is 12-97% above the right map's, where a turned body's is within 7% of it. So the score is
-// the product: curvature disagreement times distortion.
+// is 12-97% above the right map's. So distortion enters the score, but weakly: a right map
+// with a few misplaced regions or a stretched pose can be 20-30% more distorted than a turned
+// body (SCAPE 003 -> 004, 005, 014, where the turned body's curvature is 11-22% higher), so
+// curvature, the evidence a turned body cannot fake, must outweigh distortion per cent for
+// per cent. The score is curvature disagreement times the cube root of distortion: a swapped
+// limb needs its distortion at least 3 times its curvature advantage in per cent (002 -> 007:
+// 17% against 5%), a turned body wins only with a distortion 3 times lower in per cent than
+// its curvature excess. Over the refined candidates of every pair (choice replayed offline):
+// SCAPE 100 -> 103 of 105 flip-free, faust_reg6890 109 -> 110 of 110 (007 -> 018), FAUST 5k
+// and both TOSCA sets as before. Every exponent from 0.1 to 0.4 gives SCAPE 102-103 (0.25-0.3
+// lose 002 -> 007) and faust_reg6890 110; 0.5-1 give 100-101 (the plain product lost
+// 003 -> 004, 005, 014); 0 (curvature alone) loses two FAUST 5k and three faust_reg6890 pairs.
 #pragma once
 
 #include <string>
@@ -57,7 +67,7 @@ double curvature_disagreement(const PreprocessedShape& source, const Preprocesse
 struct DenseCandidate {
   int tracked_index = 0;  // which tracked map it was refined from
   DenseEvidence evidence;
-  double score = 0;       // curvature_disagreement x distortion (lower wins)
+  double score = 0;       // choice_score(evidence) (lower wins)
   bool mirrored = false;  // orientation below mirror_threshold: not eligible
   bool finished = true;   // repaired and polished before the choice (refinement.h): an
                           // unfinished candidate competes only when no finished one is eligible
@@ -70,13 +80,16 @@ struct DenseCandidate {
 // 004 -> 013), and curvature tells those two apart.
 inline constexpr double kMirrorOrientation = 0.5;
 
+// curvature_disagreement x cbrt(distortion): what the choice minimises (see the top).
+double choice_score(const DenseEvidence& evidence);
+
 // The orientation below which a dense candidate counts as mirrored: kMirrorOrientation, or
 // `orientation_margin` below the best when even the best keeps less (inconsistently
 // oriented meshes: then only the relative test is left).
 double mirror_threshold(double best_orientation, double orientation_margin);
 
-// Marks candidates below mirror_threshold as mirrored, scores the rest by curvature
-// disagreement times distortion, and returns the index of the winner: the least score among the eligible
+// Marks candidates below mirror_threshold as mirrored, scores the rest by choice_score,
+// and returns the index of the winner: the least score among the eligible
 // finished candidates, or among all eligible ones when no finished one is.
 // `why` receives one sentence for the report.
 int choose_dense_candidate(std::vector<DenseCandidate>& candidates, double orientation_margin, std::string& why);
