@@ -19,9 +19,9 @@
 // body (SCAPE 003 -> 004, 005, 014, where the turned body's curvature is 11-22% higher), so
 // curvature, the evidence a turned body cannot fake, must outweigh distortion per cent for
 // per cent. The score is curvature disagreement times the cube root of distortion: a swapped
-// limb needs its distortion at least 3 times its curvature advantage in per cent (002 -> 007:
-// 17% against 5%), a turned body wins only with a distortion 3 times lower in per cent than
-// its curvature excess. Over the refined candidates of every pair (choice replayed offline):
+// limb loses when its distortion excess is more than 3 times its curvature advantage, in per
+// cent (002 -> 007: 17% against 5%); a turned body wins only when its distortion is lower by
+// more than 3 times its curvature excess. Over the refined candidates of every pair (choice replayed offline):
 // SCAPE 100 -> 103 of 105 flip-free, faust_reg6890 109 -> 110 of 110 (007 -> 018), FAUST 5k
 // and both TOSCA sets as before. Every exponent from 0.1 to 0.4 gives SCAPE 102-103 (0.25-0.3
 // lose 002 -> 007) and faust_reg6890 110; 0.5-1 give 100-101 (the plain product lost
