@@ -188,20 +188,24 @@ TEST(DenseChoice, ATurnedMapLosesOnCurvature) {
   EXPECT_NE(why.find("curvature"), std::string::npos);
 }
 
+// A finished refined candidate with the evidence the choice reads.
+DenseCandidate candidate_with(double orientation, double curvature_disagreement, double distortion) {
+  DenseCandidate c;
+  c.evidence.orientation = orientation;
+  c.evidence.curvature_disagreement = curvature_disagreement;
+  c.evidence.distortion = distortion;
+  return c;
+}
+
 // A map with a swapped limb looks at the same shapes as the right map (curvature within
 // 2%, SCAPE 002 -> 008) but tears geodesics at its seams; a turned body's distortion is as
 // low as the right map's, its curvature is not.
 TEST(DenseChoice, ASwappedLimbLosesOnDistortionATurnedBodyOnCurvature) {
-  std::vector<DenseCandidate> candidates(3);
-  candidates[0].evidence.orientation = 0.64;  // swapped limb
-  candidates[0].evidence.curvature_disagreement = 0.1396;
-  candidates[0].evidence.distortion = 0.0339;
-  candidates[1].evidence.orientation = 0.76;  // turned
-  candidates[1].evidence.curvature_disagreement = 0.1643;
-  candidates[1].evidence.distortion = 0.0273;
-  candidates[2].evidence.orientation = 0.93;  // right
-  candidates[2].evidence.curvature_disagreement = 0.1415;
-  candidates[2].evidence.distortion = 0.0302;
+  std::vector<DenseCandidate> candidates = {
+      candidate_with(0.64, 0.1396, 0.0339),  // swapped limb
+      candidate_with(0.76, 0.1643, 0.0273),  // turned
+      candidate_with(0.93, 0.1415, 0.0302),  // right
+  };
   std::string why;
   EXPECT_EQ(choose_dense_candidate(candidates, 0.1, why), 2);
   EXPECT_NE(why.find("distortion"), std::string::npos);
@@ -211,13 +215,10 @@ TEST(DenseChoice, ASwappedLimbLosesOnDistortionATurnedBodyOnCurvature) {
 // 003 -> 014: 29% more); its curvature agrees 11% better, and curvature outweighs
 // distortion per cent for per cent. The plain product of the two chose the turned body.
 TEST(DenseChoice, ARightMapMoreDistortedThanATurnedBodyWinsOnCurvature) {
-  std::vector<DenseCandidate> candidates(2);
-  candidates[0].evidence.orientation = 0.78;  // turned
-  candidates[0].evidence.curvature_disagreement = 0.1612;
-  candidates[0].evidence.distortion = 0.0253;
-  candidates[1].evidence.orientation = 0.77;  // right
-  candidates[1].evidence.curvature_disagreement = 0.1450;
-  candidates[1].evidence.distortion = 0.0326;
+  std::vector<DenseCandidate> candidates = {
+      candidate_with(0.78, 0.1612, 0.0253),  // turned
+      candidate_with(0.77, 0.1450, 0.0326),  // right
+  };
   std::string why;
   EXPECT_EQ(choose_dense_candidate(candidates, 0.1, why), 1);
   EXPECT_LT(candidates[0].evidence.curvature_disagreement * candidates[0].evidence.distortion,

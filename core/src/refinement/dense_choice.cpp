@@ -129,8 +129,8 @@ int choose_dense_candidate(std::vector<DenseCandidate>& candidates, double orien
   }
   char text[300];
   std::snprintf(text, sizeof text,
-                "least curvature disagreement x cube root of distortion (%.6f) among the %d of %d refined candidates that keep the "
-                "handedness of at least %.3f of the faces (best %.3f)%s",
+                "least curvature disagreement x cube root of distortion (%.6f) among the %d of %d refined "
+                "candidates that keep the handedness of at least %.3f of the faces (best %.3f)%s",
                 candidates[winner].score,
                 static_cast<int>(std::count_if(candidates.begin(), candidates.end(),
                                                [&](const DenseCandidate& c) {
