@@ -1,6 +1,8 @@
 #include "isocorr/geodesic/fast_marching.h"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <utility>
 
@@ -13,70 +15,89 @@ enum : unsigned char { kFar = 0, kTrial = 1, kFinal = 2 };
 // that a shorter distance moves it up in place. A heap of (distance, vertex) entries that
 // leaves superseded ones behind pops the same vertices in the same order, but holds about
 // twice as many entries and spent most of a field's time on them.
+//
+// The order is total, so any heap pops the same sequence. This one orders 64-bit keys, a
+// distance's bits above its vertex (a non-negative float's bits order as the float does),
+// so that sifting reads only the heap and compares integers without branching, and has
+// four children per node (half the levels of a binary heap). The binary heap of vertex
+// indices it replaced read the distance array at scattered vertices: a third of a field's
+// time went to ordering the front.
 class Front {
  public:
-  Front(std::vector<int>& heap, std::vector<int>& position, const std::vector<float>& distance)
-      : heap_(heap), position_(position), distance_(distance) {
-    heap_.clear();
-  }
+  using Key = std::uint64_t;
+
+  Front(std::vector<Key>& heap, std::vector<int>& position) : heap_(heap), position_(position) { heap_.clear(); }
   bool empty() const { return heap_.empty(); }
-  int top() const { return heap_.front(); }
-  // Adds v, or moves it up after its distance was lowered.
-  void update(int v) {
+  int top() const { return vertex_of(heap_.front()); }
+  // Adds v at `distance` (>= 0), or moves it up after its distance was lowered to `distance`.
+  void update(int v, float distance) {
     if (position_[v] < 0) {
       position_[v] = static_cast<int>(heap_.size());
-      heap_.push_back(v);
+      heap_.push_back(0);
     }
-    sift_up(static_cast<size_t>(position_[v]));
+    sift_up(static_cast<size_t>(position_[v]), key_of(v, distance));
   }
   int pop() {
-    const int top = heap_.front();
+    const int top = vertex_of(heap_.front());
     position_[top] = -1;
-    const int last = heap_.back();
+    const Key last = heap_.back();
     heap_.pop_back();
-    if (!heap_.empty()) {
-      heap_[0] = last;
-      position_[last] = 0;
-      sift_down(0);
-    }
+    if (!heap_.empty()) sift_down(last);
     return top;
   }
 
  private:
-  bool before(int a, int b) const {
-    return distance_[a] < distance_[b] || (distance_[a] == distance_[b] && a < b);
+  static constexpr size_t kChildren = 4;
+
+  static Key key_of(int v, float distance) {
+    return static_cast<Key>(std::bit_cast<std::uint32_t>(distance)) << 32 | static_cast<std::uint32_t>(v);
   }
-  void place(size_t i, int v) {
-    heap_[i] = v;
-    position_[v] = static_cast<int>(i);
+  static int vertex_of(Key key) { return static_cast<int>(static_cast<std::uint32_t>(key)); }
+
+  void place(size_t i, Key key) {
+    heap_[i] = key;
+    position_[vertex_of(key)] = static_cast<int>(i);
   }
-  void sift_up(size_t i) {
-    const int v = heap_[i];
+  void sift_up(size_t i, Key key) {
     while (i > 0) {
-      const size_t parent = (i - 1) / 2;
-      if (!before(v, heap_[parent])) break;
+      const size_t parent = (i - 1) / kChildren;
+      if (key >= heap_[parent]) break;
       place(i, heap_[parent]);
       i = parent;
     }
-    place(i, v);
+    place(i, key);
   }
-  void sift_down(size_t i) {
-    const int v = heap_[i];
-    const size_t n = heap_.size();
-    for (;;) {
-      size_t child = 2 * i + 1;
-      if (child >= n) break;
-      if (child + 1 < n && before(heap_[child + 1], heap_[child])) ++child;
-      if (!before(heap_[child], v)) break;
-      place(i, heap_[child]);
-      i = child;
+  // The child of `first`'s family (kChildren children from `first`, fewer at the end)
+  // with the least key; a full family is compared without branches.
+  size_t least_child(size_t first, size_t n) const {
+    const Key* h = heap_.data();
+    if (first + kChildren <= n) {
+      const size_t a = h[first + 1] < h[first] ? first + 1 : first;
+      const size_t b = h[first + 3] < h[first + 2] ? first + 3 : first + 2;
+      return h[b] < h[a] ? b : a;
     }
-    place(i, v);
+    size_t least = first;
+    for (size_t child = first + 1; child < n; ++child)
+      if (h[child] < h[least]) least = child;
+    return least;
+  }
+  // Fills the root's hole with `key` and moves it down.
+  void sift_down(Key key) {
+    const size_t n = heap_.size();
+    size_t i = 0;
+    for (;;) {
+      const size_t first = kChildren * i + 1;
+      if (first >= n) break;
+      const size_t least = least_child(first, n);
+      if (heap_[least] >= key) break;
+      place(i, heap_[least]);
+      i = least;
+    }
+    place(i, key);
   }
 
-  std::vector<int>& heap_;
+  std::vector<Key>& heap_;
   std::vector<int>& position_;
-  const std::vector<float>& distance_;
 };
 
 }  // namespace
@@ -146,13 +167,13 @@ void FastMarching::compute(const std::vector<int>& sources, Workspace& ws, float
     ws.touched.clear();
   }
   std::vector<float>& d = ws.distance;
-  Front front(ws.front, ws.front_position, d);
+  Front front(ws.front, ws.front_position);
   for (int s : sources) {
     if (s < 0 || s >= n || ws.state[s] != kFar) continue;
     d[s] = 0.f;
     ws.state[s] = kTrial;
     ws.touched.push_back(s);
-    front.update(s);
+    front.update(s, 0.f);
   }
   while (!front.empty()) {
     const int v = front.pop();
@@ -184,7 +205,7 @@ void FastMarching::compute(const std::vector<int>& sources, Workspace& ws, float
           ws.touched.push_back(target);
         }
         d[target] = candidate;
-        front.update(target);
+        front.update(target, candidate);
       }
     }
   }

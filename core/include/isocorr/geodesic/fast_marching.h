@@ -9,6 +9,7 @@
 // obtuse triangles never produce non-causal values).
 #pragma once
 
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -28,7 +29,7 @@ class FastMarching {
     std::vector<float> distance;     // #V, kUnreached outside the computed region
     std::vector<unsigned char> state;
     std::vector<int> touched;        // vertices whose distance is set, for cheap resets
-    std::vector<int> front;          // trial vertices, a binary min-heap (fast_marching.cpp)
+    std::vector<std::uint64_t> front;  // trial vertices, a min-heap of keys (fast_marching.cpp)
     std::vector<int> front_position;  // #V, each vertex's place in `front` or -1
   };
 
