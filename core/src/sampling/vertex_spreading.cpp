@@ -13,19 +13,23 @@ std::vector<int> spread_vertices(const TriangleMesh& mesh, int count) {
     for (int v = 0; v < n; ++v) all[v] = v;
     return all;
   }
+  // Coordinates by axis, so that the distance update runs in vector registers; then the
+  // farthest vertex as the first one holding the largest distance. The scalar loop that
+  // did both at once waited on its running maximum (0.45 s for 2000 samples of a 52K mesh).
+  std::vector<double> x(n), y(n), z(n);
+  for (int v = 0; v < n; ++v) x[v] = mesh.vertices[v].x(), y[v] = mesh.vertices[v].y(), z[v] = mesh.vertices[v].z();
   std::vector<float> distance(n, std::numeric_limits<float>::max());
   std::vector<int> chosen;
   chosen.reserve(count);
   int next = 0;
   while (static_cast<int>(chosen.size()) < count) {
     chosen.push_back(next);
-    const Vec3 p = mesh.vertices[next];
-    int farthest = 0;
+    const double px = x[next], py = y[next], pz = z[next];
     for (int v = 0; v < n; ++v) {
-      distance[v] = std::min(distance[v], static_cast<float>((mesh.vertices[v] - p).squaredNorm()));
-      if (distance[v] > distance[farthest]) farthest = v;
+      const double dx = x[v] - px, dy = y[v] - py, dz = z[v] - pz;
+      distance[v] = std::min(distance[v], static_cast<float>(dx * dx + dy * dy + dz * dz));
     }
-    next = farthest;
+    next = static_cast<int>(std::max_element(distance.begin(), distance.end()) - distance.begin());
   }
   return chosen;
 }

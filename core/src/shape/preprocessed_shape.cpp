@@ -102,11 +102,12 @@ std::shared_ptr<const PreprocessedShape> PreprocessedShape::build(const Triangle
   control.check_cancelled();
 
   if (basis.valid()) {
+    // The spectral samples while the eigensolver may still run.
+    shape->spectral_samples_ = spread_vertices(mesh, options.spectral_samples);
     // Mass-orthonormal eigenvectors scaled by sqrt(area): the same shape at another scale
     // gets the same embedding, so spectral distances compare across meshes.
     const LaplaceBasis solved = basis.get();
     shape->spectral_basis_ = (solved.eigenvectors * std::sqrt(shape->area_)).cast<float>();
-    shape->spectral_samples_ = spread_vertices(mesh, options.spectral_samples);
     shape->spectral_eigenvalues_ = (solved.eigenvalues * shape->area_).cast<float>();
   }
   return shape;
