@@ -1,5 +1,10 @@
 // The functional-map fit on a shape matched to itself, where the true C is the identity.
+#include <random>
+
 #include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/SVD>
 
 #include "isocorr/mesh/procedural_meshes.h"
 #include "isocorr/refinement/functional_map_fit.h"
@@ -49,6 +54,35 @@ TEST(FunctionalMapFit, WeightDoesNotDependOnTheEigenvaluesScale) {
   const Eigen::MatrixXf original = fit_functional_map(rows, rows, fit);
   fit.source_eigenvalues = fit.target_eigenvalues = &scaled;
   EXPECT_LT((fit_functional_map(rows, rows, fit) - original).norm(), 1e-3);
+}
+
+// A fit on every vertex of a large mesh sums its rows in chunks on several workers: it
+// gives the least-squares map over all rows made orthogonal, bit for bit the same on one
+// worker.
+TEST(FunctionalMapFit, ManyRowsFitTheSameOnAnyNumberOfWorkers) {
+  constexpr int kRows = 40000, kColumns = 12;
+  std::mt19937 random(7);
+  std::normal_distribution<float> normal;
+  SpectralRows source(kRows, kColumns), noise(kRows, kColumns);
+  for (int i = 0; i < kRows; ++i)
+    for (int j = 0; j < kColumns; ++j) source(i, j) = normal(random), noise(i, j) = 0.3f * normal(random);
+  Eigen::MatrixXf permutation = Eigen::MatrixXf::Zero(kColumns, kColumns);
+  for (int j = 0; j < kColumns; ++j) permutation((j * 5) % kColumns, j) = j % 2 == 0 ? 1.f : -1.f;
+  const SpectralRows target = source * permutation + noise;
+
+  const Eigen::MatrixXd a = source.cast<double>(), b = target.cast<double>();
+  const Eigen::MatrixXd least_squares = (a.transpose() * a).ldlt().solve(a.transpose() * b);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(least_squares, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::MatrixXf expected = (svd.matrixU() * svd.matrixV().transpose()).cast<float>();
+
+  FunctionalMapFit fit;
+  fit.threads = 1;
+  const Eigen::MatrixXf alone = fit_functional_map(source, target, fit);
+  fit.threads = 2;
+  const Eigen::MatrixXf shared = fit_functional_map(source, target, fit);
+  EXPECT_LT((alone - expected).norm(), 1e-5);
+  EXPECT_GT((alone - permutation).norm(), 1e-4) << "the noise should move the fit off the permutation";
+  EXPECT_TRUE(alone == shared);
 }
 
 }  // namespace

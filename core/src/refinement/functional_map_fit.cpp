@@ -1,11 +1,21 @@
 #include "isocorr/refinement/functional_map_fit.h"
 
 #include <algorithm>
+#include <vector>
 
 #include <Eigen/Cholesky>
 #include <Eigen/SVD>
 
+#include "isocorr/util/parallel.h"
+
 namespace isocorr {
+namespace {
+
+// Rows per chunk of the normal equations: fits on samples (a few thousand rows) are one
+// chunk, summed exactly as a single product.
+constexpr Eigen::Index kFitChunkRows = 16384;
+
+}  // namespace
 
 // Why the commutativity term: an isometry's functional map only mixes eigenfunctions of
 // (nearly) equal eigenvalue. A map with local errors puts weight on entries that mix
@@ -21,14 +31,24 @@ namespace isocorr {
 // with a quarter of the pairs wrong, against exact with the projection).
 Eigen::MatrixXf fit_functional_map(const SpectralRows& a, const SpectralRows& b, const FunctionalMapFit& fit) {
   const int k = static_cast<int>(a.cols());
-  const Eigen::MatrixXd ad = a.cast<double>(), bd = b.cast<double>();
-  // Only the lower triangles are formed and read (the product as a symmetric rank-k
-  // update, half a full product's work: on every vertex of a 52K mesh at k = 200 it is the
-  // fit's largest cost).
-  Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(k, k);
-  normal.selfadjointView<Eigen::Lower>().rankUpdate(ad.transpose());
+  // The normal equations summed over chunks of kFitChunkRows rows, the chunks on workers
+  // side by side: on every vertex of a 52K mesh at k = 200 the products took 0.4 s on one
+  // core while the other waited. Only the lower triangles are formed and read (the product
+  // as a symmetric rank-k update, half a full product's work).
+  const Eigen::Index rows = a.rows();
+  const int chunks = static_cast<int>(std::max<Eigen::Index>(1, (rows + kFitChunkRows - 1) / kFitChunkRows));
+  std::vector<Eigen::MatrixXd> normals(chunks), rhss(chunks);
+  parallel_for(chunks, fit.threads, [&](int chunk, int) {
+    const Eigen::Index begin = chunk * kFitChunkRows, count = std::min(kFitChunkRows, rows - begin);
+    const Eigen::MatrixXd ad = a.middleRows(begin, count).cast<double>();
+    const Eigen::MatrixXd bd = b.middleRows(begin, count).cast<double>();
+    normals[chunk] = Eigen::MatrixXd::Zero(k, k);
+    normals[chunk].selfadjointView<Eigen::Lower>().rankUpdate(ad.transpose());
+    rhss[chunk] = ad.transpose() * bd;
+  });
+  Eigen::MatrixXd normal = std::move(normals[0]), rhs = std::move(rhss[0]);
+  for (int chunk = 1; chunk < chunks; ++chunk) normal += normals[chunk], rhs += rhss[chunk];
   normal.diagonal().array() += 1e-9 * std::max(1.0, normal.diagonal().maxCoeff());
-  const Eigen::MatrixXd rhs = ad.transpose() * bd;
   Eigen::MatrixXd c(k, k);
   const bool commute = fit.commutativity > 0 && fit.source_eigenvalues && fit.target_eigenvalues &&
                        fit.source_eigenvalues->size() >= k && fit.target_eigenvalues->size() >= k && k > 1;

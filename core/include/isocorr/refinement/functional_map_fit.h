@@ -14,6 +14,9 @@ struct FunctionalMapFit {
   const Eigen::VectorXf* source_eigenvalues = nullptr;
   const Eigen::VectorXf* target_eigenvalues = nullptr;
   double commutativity = 0;
+  // Workers for the normal equations of a fit on many rows (every vertex of a large mesh).
+  // The rows are summed in fixed chunks, so the result does not depend on this.
+  int threads = 1;
 };
 
 // Least squares (normal equations in double, a tiny ridge so that a rank-deficient start
