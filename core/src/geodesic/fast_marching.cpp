@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <bit>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 #include <utility>
 
 namespace isocorr {
@@ -20,8 +20,8 @@ enum : unsigned char { kFar = 0, kTrial = 1, kFinal = 2 };
 // distance's bits above its vertex (a non-negative float's bits order as the float does),
 // so that sifting reads only the heap and compares integers without branching, and has
 // four children per node (half the levels of a binary heap). The binary heap of vertex
-// indices it replaced read the distance array at scattered vertices: a third of a field's
-// time went to ordering the front.
+// indices it replaced read the distance array at scattered vertices for every comparison,
+// and ordering the front took longer than the triangle updates.
 class Front {
  public:
   using Key = std::uint64_t;
