@@ -1,4 +1,5 @@
-// The functional-map fit on a shape matched to itself, where the true C is the identity.
+// The functional-map fit: on a shape matched to itself, where the true C is the identity,
+// and on many random rows, where the answer is a least-squares fit made orthogonal.
 #include <random>
 
 #include <gtest/gtest.h>

@@ -102,7 +102,7 @@ std::shared_ptr<const PreprocessedShape> PreprocessedShape::build(const Triangle
   control.check_cancelled();
 
   if (basis.valid()) {
-    // The spectral samples while the eigensolver may still run.
+    // The spectral samples are chosen before waiting for the eigensolver, so both run at once.
     shape->spectral_samples_ = spread_vertices(mesh, options.spectral_samples);
     // Mass-orthonormal eigenvectors scaled by sqrt(area): the same shape at another scale
     // gets the same embedding, so spectral distances compare across meshes.
