@@ -165,29 +165,6 @@ TEST(DenseChoice, PrefersTheTrueMapToItsMirrorImage) {
   EXPECT_GE(near, 0.95);
 }
 
-TEST(DenseChoice, ATurnedMapLosesOnCurvature) {
-  std::vector<DenseCandidate> candidates(3);
-  // Turned: keeps handedness, is as isometric between coarse samples and nearly as close
-  // in heat signatures, but its points land where the surface is shaped differently.
-  candidates[0].evidence.orientation = 0.95;
-  candidates[0].evidence.distortion = 0.009;
-  candidates[0].evidence.signature_disagreement = 0.0105;
-  candidates[0].evidence.curvature_disagreement = 0.19;
-  candidates[1].evidence.orientation = 0.97;  // true
-  candidates[1].evidence.distortion = 0.010;
-  candidates[1].evidence.signature_disagreement = 0.0107;
-  candidates[1].evidence.curvature_disagreement = 0.14;
-  candidates[2].evidence.orientation = 0.05;  // mirror: as isometric, as similar, wrong hand
-  candidates[2].evidence.distortion = 0.010;
-  candidates[2].evidence.signature_disagreement = 0.0107;
-  candidates[2].evidence.curvature_disagreement = 0.14;
-  std::string why;
-  EXPECT_EQ(choose_dense_candidate(candidates, 0.1, why), 1);
-  EXPECT_TRUE(candidates[2].mirrored);
-  EXPECT_FALSE(candidates[0].mirrored);
-  EXPECT_NE(why.find("curvature"), std::string::npos);
-}
-
 // A finished refined candidate with the evidence the choice reads.
 DenseCandidate candidate_with(double orientation, double curvature_disagreement, double distortion) {
   DenseCandidate c;
@@ -195,6 +172,24 @@ DenseCandidate candidate_with(double orientation, double curvature_disagreement,
   c.evidence.curvature_disagreement = curvature_disagreement;
   c.evidence.distortion = distortion;
   return c;
+}
+
+TEST(DenseChoice, ATurnedMapLosesOnCurvature) {
+  // Turned: keeps handedness, is as isometric between coarse samples and nearly as close
+  // in heat signatures, but its points land where the surface is shaped differently.
+  std::vector<DenseCandidate> candidates = {
+      candidate_with(0.95, 0.19, 0.009),
+      candidate_with(0.97, 0.14, 0.010),  // true
+      candidate_with(0.05, 0.14, 0.010),  // mirror: as isometric, as similar, wrong hand
+  };
+  candidates[0].evidence.signature_disagreement = 0.0105;
+  candidates[1].evidence.signature_disagreement = 0.0107;
+  candidates[2].evidence.signature_disagreement = 0.0107;
+  std::string why;
+  EXPECT_EQ(choose_dense_candidate(candidates, 0.1, why), 1);
+  EXPECT_TRUE(candidates[2].mirrored);
+  EXPECT_FALSE(candidates[0].mirrored);
+  EXPECT_NE(why.find("curvature"), std::string::npos);
 }
 
 // A map with a swapped limb looks at the same shapes as the right map (curvature within
@@ -230,13 +225,10 @@ TEST(DenseChoice, ARightMapMoreDistortedThanATurnedBodyWinsOnCurvature) {
 // turned body; it is still no mirror, and it wins on curvature. Only when no candidate
 // keeps most faces does the relative margin decide.
 TEST(DenseChoice, ARightMapWithLowerHandednessIsNoMirror) {
-  std::vector<DenseCandidate> candidates(2);
-  candidates[0].evidence.orientation = 0.82;  // turned
-  candidates[0].evidence.curvature_disagreement = 0.13;
-  candidates[0].evidence.distortion = 0.03;
-  candidates[1].evidence.orientation = 0.61;  // right, partly misplaced
-  candidates[1].evidence.curvature_disagreement = 0.06;
-  candidates[1].evidence.distortion = 0.03;
+  std::vector<DenseCandidate> candidates = {
+      candidate_with(0.82, 0.13, 0.03),  // turned
+      candidate_with(0.61, 0.06, 0.03),  // right, partly misplaced
+  };
   std::string why;
   EXPECT_EQ(choose_dense_candidate(candidates, 0.1, why), 1);
   EXPECT_FALSE(candidates[1].mirrored);
@@ -247,15 +239,12 @@ TEST(DenseChoice, ARightMapWithLowerHandednessIsNoMirror) {
 // A raw spectral map is no match for a finished one (refinement.h): it competes only when
 // no finished candidate is eligible.
 TEST(DenseChoice, AnUnfinishedCandidateCompetesOnlyWhenNoFinishedOneIsEligible) {
-  std::vector<DenseCandidate> candidates(3);
-  candidates[0].evidence.orientation = 0.9;
-  candidates[0].evidence.curvature_disagreement = 0.13;
-  candidates[1].evidence.orientation = 0.75;  // raw: lower curvature
-  candidates[1].evidence.curvature_disagreement = 0.12;
+  std::vector<DenseCandidate> candidates = {
+      candidate_with(0.9, 0.13, 0.03),
+      candidate_with(0.75, 0.12, 0.03),  // raw: lower curvature
+      candidate_with(0.1, 0.11, 0.03),   // a finished mirror
+  };
   candidates[1].finished = false;
-  candidates[2].evidence.orientation = 0.1;  // a finished mirror
-  candidates[2].evidence.curvature_disagreement = 0.11;
-  for (DenseCandidate& c : candidates) c.evidence.distortion = 0.03;
   std::string why;
   EXPECT_EQ(choose_dense_candidate(candidates, 0.1, why), 0);
   candidates[0].evidence.orientation = 0.2;
