@@ -86,9 +86,25 @@ float anchored_distortion(const float* source_distances, const float* target_dis
   const size_t kept = std::max<size_t>(1, static_cast<size_t>(std::lround(size * (1.0 - trim))));
   if (kept < size) {
     const TermTotals totals = total_and_largest(size, term);
-    const double least_mean = (totals.total - static_cast<double>(size - kept) * totals.largest) / kept;
+    const size_t dropped = size - kept;
+    const double least_mean = (totals.total - static_cast<double>(dropped) * totals.largest) / kept;
     // The margin covers the rounding of the sums: a pruned candidate could not have won.
-    if (least_mean > 1.0001 * static_cast<double>(to_beat)) return std::numeric_limits<float>::infinity();
+    const double limit = 1.0001 * static_cast<double>(to_beat);
+    if (least_mean > limit) return std::numeric_limits<float>::infinity();
+    // A tighter bound where one large term (a misplaced anchor) loosens the first: the
+    // dropped terms sum to at most all those above half the largest, plus half the largest
+    // for each of the others.
+    const float half = 0.5f * totals.largest;
+    double above = 0;
+    size_t count_above = 0;
+    for (size_t i = 0; i < size; ++i) {
+      const float t = term(i);
+      above += t > half ? t : 0.f;
+      count_above += t > half;
+    }
+    if (count_above <= dropped &&
+        (totals.total - above - static_cast<double>(dropped - count_above) * half) / kept > limit)
+      return std::numeric_limits<float>::infinity();
   }
   scratch.resize(size);
   for (size_t i = 0; i < size; ++i) scratch[i] = term(i);
