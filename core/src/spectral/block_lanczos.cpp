@@ -137,7 +137,8 @@ class WeightedBasis {
       // (the test of Daniel, Gragg, Kaufman and Stewart): once more, then. Not seen on the
       // meshes of ../shared/data, where the local pass leaves only round-off.
       bool again = false;
-      for (int j = 0; j < b; ++j) again = again || second.col(j).squaredNorm() > weighted_dot(block.col(j), block.col(j));
+      for (int j = 0; j < b; ++j)
+        again = again || second.col(j).squaredNorm() > weighted_dot(block.col(j), block.col(j));
       if (again) {
         Block third;
         weighted_projection(vectors_, 0, size_, weights_, block, third);

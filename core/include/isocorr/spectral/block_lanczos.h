@@ -9,9 +9,10 @@
 //
 // The method: the Krylov space of the operator from a random block is built block by block,
 // each new block orthogonalised twice against the basis ("twice is enough": first against
-// the blocks the recurrence couples it to, then against all) and then within itself; when the basis is full, the Rayleigh-Ritz pairs of the projected matrix are
-// checked, and the best of them are kept as the start of the next cycle (thick restart,
-// Wu & Simon 2000, here in block form) until the wanted ones have converged.
+// the blocks the recurrence couples it to, then against all) and then within itself; when
+// the basis is full, the Rayleigh-Ritz pairs of the projected matrix are checked, and the
+// best of them are kept as the start of the next cycle (thick restart, Wu & Simon 2000, here
+// in block form) until the wanted ones have converged.
 #pragma once
 
 #include <functional>
