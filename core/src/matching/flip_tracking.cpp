@@ -5,6 +5,8 @@
 #include <limits>
 #include <optional>
 
+#include <Eigen/Core>
+
 #include "isocorr/matching/orientation.h"
 #include "isocorr/matching/surface_descent.h"
 
@@ -35,83 +37,138 @@ void distances_to_anchor_sources(const PreprocessedShape& source, const std::vec
   for (size_t a = 0; a < anchors.size(); ++a) out[a] = source.sample_field(anchors[a].source_sample, source_sample);
 }
 
-// The sum of term(0 .. n-1) and the largest term. The sum runs in four double lanes by
-// position (i % 4), added in lane order at the end; written as four independent chains so
-// that the compiler can keep them in one vector register (this loop runs for every
-// candidate of every tracked sample).
-struct TermTotals {
-  double total = 0;
-  float largest = 0;
+// d_iso(s, t | anchors) from s's distances to the first `count` anchors' sources and t's to
+// their images, with the largest `trim` share of the terms left out: a trimmed mean, so
+// that a few misplaced anchors or a non-isometric part (a cat's tail) do not decide the
+// match. `skip` (or -1) leaves one anchor out entirely.
+//
+// Most candidates of a sample are far from the best one, and selecting the kept terms
+// (std::nth_element) is what costs; they are dismissed by lower bounds instead. For any
+// level x >= 0 the kept terms sum to at least sum_i min(term_i, x) - dropped * x (with
+// equality where x is the largest kept term): x = the largest term is one cheap pass over
+// the terms (estimate()), a ladder of levels below it a tighter second one (value()).
+class TrimmedDistortion {
+ public:
+  TrimmedDistortion(size_t count, int skip, double trim)
+      : count_(count), gap_(skip >= 0 && static_cast<size_t>(skip) < count ? static_cast<size_t>(skip) : count) {
+    size_ = count - (gap_ < count ? 1 : 0);
+    kept_ = std::max<size_t>(1, static_cast<size_t>(std::lround(size_ * (1.0 - trim))));
+  }
+
+  struct Estimate {
+    double mean = 0;    // of all terms: where the value probably lies
+    double lower = 0;   // certainly at most the value
+    float largest = 0;  // the largest term
+  };
+  Estimate estimate(const float* source, const float* target) const {
+    if (size_ == 0) return {};
+    Estimate estimate;
+    double total = 0;
+    add_run(source, target, 0, gap_, total, estimate.largest);
+    if (gap_ < count_) add_run(source, target, gap_ + 1, count_, total, estimate.largest);
+    estimate.mean = total / size_;
+    estimate.lower = (total - static_cast<double>(size_ - kept_) * estimate.largest) / kept_;
+    return estimate;
+  }
+
+  // The trimmed mean, or +infinity where it is certainly above `to_beat` (the best so far).
+  float value(const float* source, const float* target, const Estimate& estimate, float to_beat,
+              std::vector<float>& scratch) const {
+    if (size_ == 0) return 0.f;
+    scratch.resize(size_);
+    for (size_t i = 0; i < size_; ++i) scratch[i] = term(source, target, i);
+    if (kept_ < size_ && clipped_bound(scratch, estimate.largest) > margin(to_beat))
+      return std::numeric_limits<float>::infinity();
+    if (kept_ < size_) std::nth_element(scratch.begin(), scratch.begin() + kept_, scratch.end());
+    double sum = 0;
+    for (size_t i = 0; i < kept_; ++i) sum += scratch[i];
+    return static_cast<float>(sum / kept_);
+  }
+
+  // A candidate whose bound is above this cannot beat `best`: the margin covers the
+  // rounding of the sums.
+  static double margin(float best) { return 1.0001 * static_cast<double>(best); }
+
+ private:
+  // Term i is anchor i's, or anchor i + 1's past the skipped one.
+  float term(const float* source, const float* target, size_t i) const {
+    const size_t a = i < gap_ ? i : i + 1;
+    return std::abs(source[a] - target[a]);
+  }
+
+  // The anchors before and after the skipped one are two contiguous runs, summed eight
+  // terms at a time in vector registers.
+  static void add_run(const float* source, const float* target, size_t begin, size_t end, double& total,
+                      float& largest) {
+    using Lanes = Eigen::Array<float, 8, 1>;
+    Eigen::Array<double, 4, 1> low = Eigen::Array<double, 4, 1>::Zero(), high = low;
+    Lanes lanes_largest = Lanes::Zero();
+    size_t i = begin;
+    for (; i + 8 <= end; i += 8) {
+      const Lanes terms = (Eigen::Map<const Lanes>(source + i) - Eigen::Map<const Lanes>(target + i)).abs();
+      lanes_largest = lanes_largest.max(terms);
+      low += terms.head<4>().cast<double>();
+      high += terms.tail<4>().cast<double>();
+    }
+    total += (low + high).sum();
+    largest = std::max(largest, lanes_largest.maxCoeff());
+    for (; i < end; ++i) {
+      const float t = std::abs(source[i] - target[i]);
+      total += t;
+      largest = std::max(largest, t);
+    }
+  }
+
+  // The bound at the levels largest / 2^j, j = 0..7, as a mean of the kept terms: each
+  // level costs two vector additions per term (in double: a level far above the kept terms
+  // subtracts dropped * level from a sum of about that size).
+  double clipped_bound(const std::vector<float>& terms, float largest) const {
+    using Levels = Eigen::Array<double, 8, 1>;
+    Levels levels;
+    for (int j = 0; j < 8; ++j) levels[j] = std::ldexp(static_cast<double>(largest), -j);
+    Levels even = Levels::Zero(), odd = Levels::Zero();  // two chains of additions
+    size_t i = 0;
+    for (; i + 2 <= terms.size(); i += 2) {
+      even += levels.min(static_cast<double>(terms[i]));
+      odd += levels.min(static_cast<double>(terms[i + 1]));
+    }
+    if (i < terms.size()) even += levels.min(static_cast<double>(terms[i]));
+    const double dropped = static_cast<double>(size_ - kept_);
+    return std::max(0.0, (even + odd - dropped * levels).maxCoeff()) / kept_;
+  }
+
+  size_t count_, gap_, size_ = 0, kept_ = 1;
 };
 
-template <class Term>
-TermTotals total_and_largest(size_t n, const Term& term) {
-  double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
-  float m0 = 0, m1 = 0, m2 = 0, m3 = 0;
-  size_t i = 0;
-  for (; i + 4 <= n; i += 4) {
-    const float t0 = term(i), t1 = term(i + 1), t2 = term(i + 2), t3 = term(i + 3);
-    s0 += t0, s1 += t1, s2 += t2, s3 += t3;
-    m0 = std::max(m0, t0), m1 = std::max(m1, t1), m2 = std::max(m2, t2), m3 = std::max(m3, t3);
+// The candidate of least trimmed distortion (candidate j's distances to the anchors'
+// images are rows.pool_row(j)). Candidates are tried in the order of their mean term, so
+// that the first few set a low best and the bounds dismiss most others; the result is the
+// same as trying them in turn: the least value, and on a tie the candidate that comes first.
+struct Candidate {
+  TrimmedDistortion::Estimate estimate;
+  int index;  // into the pool
+  bool operator<(const Candidate& other) const {
+    return estimate.mean < other.estimate.mean || (estimate.mean == other.estimate.mean && index < other.index);
   }
-  double* lanes[] = {&s0, &s1, &s2, &s3};
-  float* maxima[] = {&m0, &m1, &m2, &m3};
-  for (; i < n; ++i) {
-    *lanes[i % 4] += term(i);
-    *maxima[i % 4] = std::max(*maxima[i % 4], term(i));
-  }
-  return {s0 + s1 + s2 + s3, std::max(std::max(m0, m1), std::max(m2, m3))};
-}
+};
 
-// d_iso(s, t | anchors) from s's distances to the first `count` anchors' sources and t's to
-// their images,
-// with the largest `trim` share of the terms left out: a trimmed mean, so that a few
-// misplaced anchors or a non-isometric part (a cat's tail) do not decide the match.
-// `skip` (or -1) leaves one anchor out entirely. A candidate whose distortion is certainly
-// above `to_beat` (the best so far) gets +infinity without the selection of its kept terms,
-// which is most of the cost: the kept terms sum to at least the total less the dropped
-// count times the largest term, and far candidates fail that test. The terms are only
-// stored for the candidates that pass it.
-float anchored_distortion(const float* source_distances, const float* target_distances, size_t count, int skip,
-                          double trim, float to_beat, std::vector<float>& scratch) {
-  const bool skipping = skip >= 0 && static_cast<size_t>(skip) < count;
-  const size_t size = count - (skipping ? 1 : 0);
-  if (size == 0) return 0.f;
-  // Term i is anchor i's, or anchor i + 1's past the skipped one.
-  const size_t gap = skipping ? static_cast<size_t>(skip) : count;
-  auto term = [&](size_t i) {
-    const size_t a = i < gap ? i : i + 1;
-    return std::abs(source_distances[a] - target_distances[a]);
-  };
-  const size_t kept = std::max<size_t>(1, static_cast<size_t>(std::lround(size * (1.0 - trim))));
-  if (kept < size) {
-    const TermTotals totals = total_and_largest(size, term);
-    const size_t dropped = size - kept;
-    const double least_mean = (totals.total - static_cast<double>(dropped) * totals.largest) / kept;
-    // The margin covers the rounding of the sums: a pruned candidate could not have won.
-    const double limit = 1.0001 * static_cast<double>(to_beat);
-    if (least_mean > limit) return std::numeric_limits<float>::infinity();
-    // A tighter bound where one large term (a misplaced anchor) loosens the first: the
-    // dropped terms sum to at most all those above half the largest, plus half the largest
-    // for each of the others.
-    const float half = 0.5f * totals.largest;
-    double above = 0;
-    size_t count_above = 0;
-    for (size_t i = 0; i < size; ++i) {
-      const float t = term(i);
-      above += t > half ? t : 0.f;
-      count_above += t > half;
-    }
-    if (count_above <= dropped &&
-        (totals.total - above - static_cast<double>(dropped - count_above) * half) / kept > limit)
-      return std::numeric_limits<float>::infinity();
+struct BestCandidate {
+  int index = -1;  // into the pool; -1 where there was no candidate
+  float cost = std::numeric_limits<float>::max();
+};
+
+BestCandidate least_distortion(const TrimmedDistortion& distortion, const float* source_distances,
+                               const AnchorDistances& rows, std::vector<Candidate>& candidates,
+                               std::vector<float>& scratch) {
+  for (Candidate& c : candidates) c.estimate = distortion.estimate(source_distances, rows.pool_row(c.index));
+  std::sort(candidates.begin(), candidates.end());
+  BestCandidate best;
+  for (const Candidate& c : candidates) {
+    if (c.estimate.lower > TrimmedDistortion::margin(best.cost)) continue;
+    const float cost = distortion.value(source_distances, rows.pool_row(c.index), c.estimate, best.cost, scratch);
+    if (cost < best.cost || (cost == best.cost && c.index < best.index)) best = {c.index, cost};
   }
-  scratch.resize(size);
-  for (size_t i = 0; i < size; ++i) scratch[i] = term(i);
-  if (kept < size) std::nth_element(scratch.begin(), scratch.begin() + kept, scratch.end());
-  double sum = 0;
-  for (size_t i = 0; i < kept; ++i) sum += scratch[i];
-  return static_cast<float>(sum / kept);
+  return best;
 }
 
 // Level-0 samples are only roughly aligned on the two shapes (each mesh is sampled on its
@@ -125,19 +182,17 @@ void reassign_pairs(const PreprocessedShape& source, const PreprocessedShape& ta
   const size_t anchor_count = std::min(anchors.size(), static_cast<size_t>(options.anchor_cap));
   const AnchorDistances distances(target, anchors, anchor_count, pool);
   std::vector<float> source_distances, scratch;
+  std::vector<Candidate> candidates;
   for (size_t p = 0; p < pairs.size(); ++p) {
     distances_to_anchor_sources(source, anchors, pairs[p].source_sample, source_distances);
     const int current = pairs[p].target_sample;
-    int best = current;
-    float best_cost = std::numeric_limits<float>::max();
-    for (size_t j = 0; j < pool.size(); ++j) {
-      if (target.sample_field(current, pool[j]) > radius) continue;
-      const float cost = anchored_distortion(source_distances.data(), distances.pool_row(j), anchor_count,
-                                             static_cast<int>(p), options.trim_fraction, best_cost, scratch);
-      if (cost < best_cost) best_cost = cost, best = pool[j];
-    }
-    pairs[p].target_sample = best;
-    pairs[p].diso = best_cost;
+    candidates.clear();
+    for (size_t j = 0; j < pool.size(); ++j)
+      if (target.sample_field(current, pool[j]) <= radius) candidates.push_back({{}, static_cast<int>(j)});
+    const TrimmedDistortion distortion(anchor_count, static_cast<int>(p), options.trim_fraction);
+    const BestCandidate best = least_distortion(distortion, source_distances.data(), distances, candidates, scratch);
+    if (best.index >= 0) pairs[p].target_sample = pool[best.index];
+    pairs[p].diso = best.cost;
   }
 }
 
@@ -215,6 +270,7 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
   const int levels = std::min(source.options().decision_level, target.options().decision_level);
   const double r0 = source.options().level0_radius, shrink = source.options().level_shrink;
   std::vector<float> source_distances, scratch;
+  std::vector<Candidate> candidates;
   for (int level = 1; level <= levels; ++level) {
     control.check_cancelled();
     const std::vector<SamplePair> anchors = tracked.pairs;  // pairs of earlier levels
@@ -228,6 +284,7 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
       if (target.sample_step(j) <= pool_step) pool.push_back(j);
     const double radius = r0 * std::pow(shrink, level);
     const AnchorDistances distances(target, anchors, anchor_count, pool);
+    const TrimmedDistortion distortion(anchor_count, -1, options.trim_fraction);
 
     for (int s = 0; s < source.num_samples(); ++s) {
       if (matched[s] || source.sample_step(s) > 2 * level) continue;
@@ -244,18 +301,17 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
       std::optional<HandednessGuard> guard;
       if (options.handedness_guard) guard.emplace(source, target, anchors, sv, static_cast<float>(0.5 * radius));
       const int first_pass = guard ? 0 : 1;
-      int best = -1;
-      float best_cost = std::numeric_limits<float>::max();
-      for (int pass = first_pass; pass < 3 && best < 0; ++pass) {
+      BestCandidate best;
+      for (int pass = first_pass; pass < 3 && best.index < 0; ++pass) {
+        candidates.clear();
         for (size_t j = 0; j < pool.size(); ++j) {
           if (pass < 2 && target.sample_field(parent->target_sample, pool[j]) > window) continue;
           if (pass == 0 && !guard->accepts(target.sample_vertex(pool[j]))) continue;
-          const float cost = anchored_distortion(source_distances.data(), distances.pool_row(j), anchor_count, -1,
-                                                 options.trim_fraction, best_cost, scratch);
-          if (cost < best_cost) best_cost = cost, best = pool[j];
+          candidates.push_back({{}, static_cast<int>(j)});
         }
+        best = least_distortion(distortion, source_distances.data(), distances, candidates, scratch);
       }
-      tracked.pairs.push_back({s, best, best_cost});
+      tracked.pairs.push_back({s, best.index >= 0 ? pool[best.index] : -1, best.cost});
       matched[s] = 1;
     }
     reassign_pairs(source, target, pool, radius, options, tracked.pairs);
