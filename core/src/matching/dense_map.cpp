@@ -81,10 +81,12 @@ void match_direction(const PreprocessedShape& from, const Descriptors& from_desc
                      thread_local std::vector<float> weights;
                      weights.resize(e);
                      locality_weights(x, e, locality, weights.data());
-                     image[v] = descend_to_minimum(to_topology, start[v],
-                                        [&](int w) { return weighted_l1(x, to_desc.row(w), weights.data(), e); }, best);
+                     image[v] = descend_to_minimum<CostPrice::kDear>(
+                         to_topology, start[v], [&](int w) { return weighted_l1(x, to_desc.row(w), weights.data(), e); },
+                         best);
                    } else {
-                     image[v] = descend_to_minimum(to_topology, start[v], [&](int w) { return l1(x, to_desc.row(w), e); }, best);
+                     image[v] = descend_to_minimum<CostPrice::kDear>(
+                         to_topology, start[v], [&](int w) { return l1(x, to_desc.row(w), e); }, best);
                    }
                    cost[v] = best / e;
                  });
@@ -167,7 +169,7 @@ DenseMap compute_dense_map(const PreprocessedShape& source, const PreprocessedSh
     parallel_for(e, threads, [&](int a, int) {
       const float* x = source_desc.row(source_vertex[a]);
       float best = 0;
-      moved_to[a] = descend_to_minimum(target_topology, target_vertex[a], [&](int w) {
+      moved_to[a] = descend_to_minimum<CostPrice::kDear>(target_topology, target_vertex[a], [&](int w) {
         float sum = 0;
         for (int b = 0; b < e; ++b)
           if (b != a) sum += std::abs(x[b] - target_fields[b][w]);

@@ -232,7 +232,7 @@ void refine_to_vertices(const PreprocessedShape& source, const PreprocessedShape
       return (s0 + s1) + (s2 + s3);
     };
     float best = 0;
-    pairs[p].target_vertex = descend_to_minimum(topology, target.sample_vertex(pairs[p].target_sample), cost, best);
+    pairs[p].target_vertex = descend_to_minimum<CostPrice::kDear>(topology, target.sample_vertex(pairs[p].target_sample), cost, best);
   }
 }
 

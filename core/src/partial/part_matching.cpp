@@ -272,8 +272,8 @@ TargetAnchors vertex_accurate_anchors(const PartGeometry& part, const std::vecto
       return trimmed_mean(terms);
     };
     float best = 0;
-    anchors.vertex[q] = descend_to_minimum(target.geodesics().topology(), target.sample_vertex(pairs[q].target_sample),
-                                           cost, best);
+    anchors.vertex[q] = descend_to_minimum<CostPrice::kDear>(
+        target.geodesics().topology(), target.sample_vertex(pairs[q].target_sample), cost, best);
     anchors.computed_fields[q] = target.geodesics().distance_field(anchors.vertex[q]);
   });
   for (const auto& field : anchors.computed_fields) anchors.rows.push_back(field.data());
@@ -327,7 +327,7 @@ DenseMap dense_part_map(const PartGeometry& part, const TrackedMap& chosen, cons
       start = anchors.vertex[nearest];
     }
     float best = 0;
-    dense.forward[v] = descend_to_minimum(target_topology, start, cost, best);
+    dense.forward[v] = descend_to_minimum<CostPrice::kDear>(target_topology, start, cost, best);
     dense.forward_diso[v] = best / source_diameter;
   }
   for (int v = 0; v < source_vertices; ++v)  // unreachable from the first anchor: cannot happen on a

@@ -93,7 +93,7 @@ OutlierRepair repair_outliers(const PreprocessedShape& source, const Preprocesse
       if (d < best_distortion) best_distortion = d, best = w;
     }
     float reached = 0;
-    best = descend_to_minimum(target.geodesics().topology(), best,
+    best = descend_to_minimum<CostPrice::kDear>(target.geodesics().topology(), best,
                               [&](int w) { return static_cast<float>(distortion(v, w)); }, reached);
     if (reached < kAcceptFactor * current[v] - report.median_distortion) moved_to[i] = best;
   });
