@@ -241,37 +241,58 @@ void refine_to_vertices(const PreprocessedShape& source, const PreprocessedShape
 double sample_map_diso(const PreprocessedShape& source, const PreprocessedShape& target,
                        const std::vector<SamplePair>& pairs) {
   if (pairs.size() < 2) return 0;
-  double total = 0;
-  for (size_t p = 0; p < pairs.size(); ++p) {
-    const int tv = image_vertex(target, pairs[p]);
-    double sum = 0;
-    for (size_t q = 0; q < pairs.size(); ++q) {
-      if (q == p) continue;
-      sum += std::abs(source.sample_field(pairs[q].source_sample, pairs[p].source_sample) -
-                      target.field(pairs[q].target_sample, tv));
-    }
-    total += sum / (pairs.size() - 1);
+  std::vector<int> images(pairs.size());
+  for (size_t p = 0; p < pairs.size(); ++p) images[p] = image_vertex(target, pairs[p]);
+  // Pair q's target field is read as one row for every other pair (rows are far apart in
+  // memory); each pair's sum still runs over q in order.
+  std::vector<double> sums(pairs.size(), 0.0);
+  for (size_t q = 0; q < pairs.size(); ++q) {
+    const float* field = target.field_row(pairs[q].target_sample);
+    for (size_t p = 0; p < pairs.size(); ++p)
+      if (p != q)
+        sums[p] += std::abs(source.sample_field(pairs[q].source_sample, pairs[p].source_sample) - field[images[p]]);
   }
+  double total = 0;
+  for (size_t p = 0; p < pairs.size(); ++p) total += sums[p] / (pairs.size() - 1);
   return total / pairs.size();
 }
 
-TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& target,
-                     const Level0Map& map, int rank, const TrackingOptions& options,
-                     const JobControl& control) {
+TrackingPlan plan_tracking(const PreprocessedShape& source, int level0_count, int levels,
+                           const TrackingOptions& options) {
+  TrackingPlan plan;
+  plan.level0_count = level0_count;
+  const double r0 = source.options().level0_radius, shrink = source.options().level_shrink;
+  // Only the source samples of the pairs matter here: the targets are the maps'.
+  std::vector<SamplePair> matched;
+  std::vector<unsigned char> is_matched(source.num_samples(), 0);
+  for (int i = 0; i < level0_count; ++i) matched.push_back({i, 0, 0.f}), is_matched[i] = 1;
+  for (int level = 1; level <= levels; ++level) {
+    const float guard_distance = static_cast<float>(0.5 * r0 * std::pow(shrink, level));
+    std::vector<TrackingPlan::Step>& steps = plan.levels.emplace_back();
+    for (int s = 0; s < source.num_samples(); ++s) {
+      if (is_matched[s] || source.sample_step(s) > 2 * level) continue;
+      TrackingPlan::Step& step = steps.emplace_back();
+      step.source_sample = s;
+      distances_to_anchor_sources(source, matched, s, step.anchor_distances);
+      if (options.handedness_guard)
+        step.guard = guard_corners(source, matched, source.sample_vertex(s), guard_distance);
+    }
+    for (const TrackingPlan::Step& step : steps) matched.push_back({step.source_sample, 0, 0.f}), is_matched[step.source_sample] = 1;
+  }
+  plan.orientation = orientation_triangles(source, matched);
+  return plan;
+}
+
+TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& target, const TrackingPlan& plan,
+                     const Level0Map& map, int rank, const TrackingOptions& options, const JobControl& control) {
   TrackedMap tracked;
   tracked.level0_rank = rank;
   tracked.level0_diso = map.diso;
-  const int m = static_cast<int>(map.target_of.size());
-  std::vector<unsigned char> matched(source.num_samples(), 0);
-  for (int i = 0; i < m; ++i) {
-    tracked.pairs.push_back({i, map.target_of[i], 0.f});
-    matched[i] = 1;
-  }
-  const int levels = std::min(source.options().decision_level, target.options().decision_level);
+  for (int i = 0; i < plan.level0_count; ++i) tracked.pairs.push_back({i, map.target_of[i], 0.f});
   const double r0 = source.options().level0_radius, shrink = source.options().level_shrink;
-  std::vector<float> source_distances, scratch;
+  std::vector<float> scratch;
   std::vector<Candidate> candidates;
-  for (int level = 1; level <= levels; ++level) {
+  for (int level = 1; level <= static_cast<int>(plan.levels.size()); ++level) {
     control.check_cancelled();
     const std::vector<SamplePair> anchors = tracked.pairs;  // pairs of earlier levels
     const size_t anchor_count = std::min(anchors.size(), static_cast<size_t>(options.anchor_cap));
@@ -286,11 +307,9 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
     const AnchorDistances distances(target, anchors, anchor_count, pool);
     const TrimmedDistortion distortion(anchor_count, -1, options.trim_fraction);
 
-    for (int s = 0; s < source.num_samples(); ++s) {
-      if (matched[s] || source.sample_step(s) > 2 * level) continue;
-      const int sv = source.sample_vertex(s);
+    for (const TrackingPlan::Step& step : plan.levels[level - 1]) {
+      const std::vector<float>& source_distances = step.anchor_distances;
       // Parent: the nearest sample matched at an earlier level.
-      distances_to_anchor_sources(source, anchors, s, source_distances);
       const size_t parent_index = static_cast<size_t>(
           std::min_element(source_distances.begin(), source_distances.end()) - source_distances.begin());
       const SamplePair* parent = &anchors[parent_index];
@@ -299,7 +318,7 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
       // Passes widen the search when nothing qualifies: near the parent's image and
       // keeping handedness, then near the parent's image, then anywhere.
       std::optional<HandednessGuard> guard;
-      if (options.handedness_guard) guard.emplace(source, target, anchors, sv, static_cast<float>(0.5 * radius));
+      if (options.handedness_guard) guard.emplace(target, anchors, step.guard);
       const int first_pass = guard ? 0 : 1;
       BestCandidate best;
       for (int pass = first_pass; pass < 3 && best.index < 0; ++pass) {
@@ -311,14 +330,13 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
         }
         best = least_distortion(distortion, source_distances.data(), distances, candidates, scratch);
       }
-      tracked.pairs.push_back({s, best.index >= 0 ? pool[best.index] : -1, best.cost});
-      matched[s] = 1;
+      tracked.pairs.push_back({step.source_sample, best.index >= 0 ? pool[best.index] : -1, best.cost});
     }
     reassign_pairs(source, target, pool, radius, options, tracked.pairs);
   }
   refine_to_vertices(source, target, options, tracked.pairs);
   tracked.diso = sample_map_diso(source, target, tracked.pairs);
-  tracked.orientation = orientation_agreement(source, target, tracked.pairs);
+  tracked.orientation = orientation_agreement(target, tracked.pairs, plan.orientation);
   return tracked;
 }
 

@@ -77,9 +77,10 @@ DenseMap match_complete(const PreprocessedShape& source, const PreprocessedShape
   result.tracked.resize(tracked_count);
   TrackingOptions tracking = settings.tracking;
   tracking.threads = 1;
+  const TrackingPlan plan = plan_tracking(source, m, levels, tracking);
   std::atomic<int> done{0};
   parallel_for(tracked_count, threads, [&](int i, int) {
-    result.tracked[i] = track_map(source, target, result.level0[i], i, tracking, control);
+    result.tracked[i] = track_map(source, target, plan, result.level0[i], i, tracking, control);
     const int finished = ++done;
     control.report({"tracking", levels, total_levels, 0.1 + 0.6 * finished / tracked_count});
   });

@@ -30,13 +30,11 @@ constexpr float kBandHigh = 0.12f;
 
 }  // namespace
 
-double orientation_agreement(const PreprocessedShape& source, const PreprocessedShape& target,
-                             const std::vector<SamplePair>& pairs) {
+std::vector<PairTriangle> orientation_triangles(const PreprocessedShape& source, const std::vector<SamplePair>& pairs) {
   const int count = static_cast<int>(pairs.size());
-  if (count < 3) return 0.5;
+  std::vector<PairTriangle> triangles;
+  if (count < 3) return triangles;
   const auto& sp = source.mesh().vertices;
-  const auto& tp = target.mesh().vertices;
-  int agree = 0, total = 0;
   std::vector<int> others(count);
   for (int a = 0; a < count; ++a) {
     const int sa = source.sample_vertex(pairs[a].source_sample);
@@ -59,23 +57,36 @@ double orientation_agreement(const PreprocessedShape& source, const Preprocessed
         const double s = spread(sp[sa], sp[sb], sp[sc], n);
         if (s > best_spread) best_spread = s, b = others[i], c = others[j];
       }
-    const int sb = b < 0 ? sa : source.sample_vertex(pairs[b].source_sample);
     if (c < 0 || best_spread < 0.2) continue;
-    const int sc = source.sample_vertex(pairs[c].source_sample);
-    const int ta = image_vertex(target, pairs[a]), tb = image_vertex(target, pairs[b]),
-              tc = image_vertex(target, pairs[c]);
-    const double source_sign = handedness(sp[sa], sp[sb], sp[sc], n);
+    const int sb = source.sample_vertex(pairs[b].source_sample), sc = source.sample_vertex(pairs[c].source_sample);
+    triangles.push_back({a, b, c, handedness(sp[sa], sp[sb], sp[sc], n) > 0});
+  }
+  return triangles;
+}
+
+double orientation_agreement(const PreprocessedShape& target, const std::vector<SamplePair>& pairs,
+                             const std::vector<PairTriangle>& triangles) {
+  if (pairs.size() < 3) return 0.5;
+  const auto& tp = target.mesh().vertices;
+  int agree = 0, total = 0;
+  for (const PairTriangle& t : triangles) {
+    const int ta = image_vertex(target, pairs[t.a]), tb = image_vertex(target, pairs[t.b]),
+              tc = image_vertex(target, pairs[t.c]);
     const double target_sign = handedness(tp[ta], tp[tb], tp[tc], target.normals()[ta]);
     if (target_sign == 0) continue;
     ++total;
-    if ((source_sign > 0) == (target_sign > 0)) ++agree;
+    if (t.positive == (target_sign > 0)) ++agree;
   }
   return total ? static_cast<double>(agree) / total : 0.5;
 }
 
-HandednessGuard::HandednessGuard(const PreprocessedShape& source, const PreprocessedShape& target,
-                                 const std::vector<SamplePair>& matched, int source_vertex, float min_distance)
-    : target_(target) {
+double orientation_agreement(const PreprocessedShape& source, const PreprocessedShape& target,
+                             const std::vector<SamplePair>& pairs) {
+  return orientation_agreement(target, pairs, orientation_triangles(source, pairs));
+}
+
+std::vector<GuardCorners> guard_corners(const PreprocessedShape& source, const std::vector<SamplePair>& matched,
+                                        int source_vertex, float min_distance) {
   constexpr size_t kNearest = 8;      // corners are drawn from this many nearest matched samples
   constexpr size_t kTriangles = 3;    // best-spread triangles kept (an odd number: a clear vote)
   constexpr double kMinSpread = 0.3;  // |sine| of the corner angle; flatter triangles are unstable
@@ -89,20 +100,30 @@ HandednessGuard::HandednessGuard(const PreprocessedShape& source, const Preproce
   const auto& sp = source.mesh().vertices;
   const Vec3& a = sp[source_vertex];
   const Vec3& n = source.normals()[source_vertex];
-  struct Candidate { double spread; int b, c; bool positive; };
+  struct Candidate {
+    double spread;
+    GuardCorners corners;
+  };
   std::vector<Candidate> candidates;
   for (size_t i = 0; i < count; ++i)
     for (size_t j = i + 1; j < count; ++j) {
       const Vec3& b = sp[source.sample_vertex(matched[near[i].second].source_sample)];
       const Vec3& c = sp[source.sample_vertex(matched[near[j].second].source_sample)];
       const double s = spread(a, b, c, n);
-      if (s >= kMinSpread) candidates.push_back({s, near[i].second, near[j].second, handedness(a, b, c, n) > 0});
+      if (s >= kMinSpread) candidates.push_back({s, {near[i].second, near[j].second, handedness(a, b, c, n) > 0}});
     }
   std::stable_sort(candidates.begin(), candidates.end(),
                    [](const Candidate& x, const Candidate& y) { return x.spread > y.spread; });
-  for (size_t k = 0; k < std::min(candidates.size(), kTriangles); ++k)
-    triangles_.push_back({image_vertex(target, matched[candidates[k].b]),
-                          image_vertex(target, matched[candidates[k].c]), candidates[k].positive});
+  std::vector<GuardCorners> corners;
+  for (size_t k = 0; k < std::min(candidates.size(), kTriangles); ++k) corners.push_back(candidates[k].corners);
+  return corners;
+}
+
+HandednessGuard::HandednessGuard(const PreprocessedShape& target, const std::vector<SamplePair>& matched,
+                                 const std::vector<GuardCorners>& corners)
+    : target_(target) {
+  for (const GuardCorners& c : corners)
+    triangles_.push_back({image_vertex(target, matched[c.b]), image_vertex(target, matched[c.c]), c.positive});
 }
 
 bool HandednessGuard::accepts(int target_vertex) const {

@@ -5,22 +5,11 @@
 #include <vector>
 
 #include "isocorr/matching/level0_search.h"
+#include "isocorr/matching/orientation.h"
+#include "isocorr/matching/sample_pair.h"
 #include "isocorr/shape/preprocessed_shape.h"
 
 namespace isocorr {
-
-// A correspondence between sample i of the source and sample j of the target hierarchy.
-struct SamplePair {
-  int source_sample = 0;
-  int target_sample = 0;
-  float diso = 0;  // d_iso of the pair against the anchors it was matched with
-  int target_vertex = -1;  // the target vertex (not sample) that best agrees with the anchors
-};
-
-// The target vertex a pair maps to: its vertex-accurate image once refined, else its sample.
-inline int image_vertex(const PreprocessedShape& target, const SamplePair& pair) {
-  return pair.target_vertex >= 0 ? pair.target_vertex : target.sample_vertex(pair.target_sample);
-}
 
 struct TrackingOptions {
   int anchor_cap = 100;        // E: anchors used for d_iso (the coarsest pairs, evenly spread)
@@ -41,15 +30,34 @@ struct TrackedMap {
   double orientation = 0;       // fraction of sample triangles that keep their handedness
 };
 
+// What tracking needs of the source alone, the same for every level-0 map of a pair: the
+// order in which source samples are matched, their distances to the samples matched before
+// them, and the source's half of the handedness tests (orientation.h). Built once per
+// pair, so that each map's tracking does only the target's work.
+struct TrackingPlan {
+  struct Step {
+    int source_sample = 0;
+    std::vector<float> anchor_distances;  // to the source samples of the pairs before its level
+    std::vector<GuardCorners> guard;      // over those pairs (empty without the guard)
+  };
+  int level0_count = 0;               // source samples 0..M-1 are matched at level 0
+  std::vector<std::vector<Step>> levels;  // levels 1..K1, each in matching order
+  std::vector<PairTriangle> orientation;  // over all pairs, level-0 ones first
+};
+
+// Levels 1..`levels` after `level0_count` level-0 samples; each new source sample (of steps
+// <= 2k at level k) in index order.
+TrackingPlan plan_tracking(const PreprocessedShape& source, int level0_count, int levels,
+                           const TrackingOptions& options);
+
 // Refines one level-0 map (source samples 0..M-1 to target samples `map.target_of`)
-// level by level up to the shapes' decision level K1. Each new source sample (of steps
-// <= 2k at level k) is matched to the target sample (of steps <= 2k+1) near its parent's
-// image that minimises d_iso against the pairs of earlier levels: with many reliable
-// anchors this per-sample choice avoids the drift of small combinatorial patches
-// (ALGORITHM.md, "What a prototype measured").
-TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& target,
-                     const Level0Map& map, int rank, const TrackingOptions& options,
-                     const JobControl& control);
+// level by level up to the plan's last level (the shapes' decision level K1). Each new
+// source sample is matched to the target sample near its parent's image that minimises
+// d_iso against the pairs of earlier levels: with many reliable anchors this per-sample
+// choice avoids the drift of small combinatorial patches (ALGORITHM.md, "What a prototype
+// measured").
+TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& target, const TrackingPlan& plan,
+                     const Level0Map& map, int rank, const TrackingOptions& options, const JobControl& control);
 
 // D_iso of a set of sample pairs: mean over pairs of d_iso against all the others, each
 // pair at its vertex-accurate image where it has one.

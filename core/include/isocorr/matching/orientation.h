@@ -6,7 +6,7 @@
 
 #include <vector>
 
-#include "isocorr/matching/flip_tracking.h"
+#include "isocorr/matching/sample_pair.h"
 
 namespace isocorr {
 
@@ -16,15 +16,37 @@ namespace isocorr {
 double orientation_agreement(const PreprocessedShape& source, const PreprocessedShape& target,
                              const std::vector<SamplePair>& pairs);
 
+// The same in two halves, for many pair lists with the same source samples (tracking's
+// maps): the triangles are the source's, the count of kept ones the target's.
+struct PairTriangle {
+  int a, b, c;    // indices into the pair list
+  bool positive;  // handedness on the source
+};
+std::vector<PairTriangle> orientation_triangles(const PreprocessedShape& source, const std::vector<SamplePair>& pairs);
+double orientation_agreement(const PreprocessedShape& target, const std::vector<SamplePair>& pairs,
+                             const std::vector<PairTriangle>& triangles);
+
 // The same test for one new pair while tracking. Where extremities are the only level-0
 // samples, a map and its front/back mirror (chest to back, toes to heels) agree at level 0
 // and stay close in D_iso, so a tracker choosing by D_iso alone drifts into the mirror on
 // part of the body. The guard takes triangles formed by a new source sample and two
 // matched samples near it; a target vertex passes when most of them keep handedness.
+// The source's half (guard_corners: the triangles, over indices into `matched`) depends on
+// the matched source samples only, so tracking computes it once for all its maps.
+struct GuardCorners {
+  int b, c;       // indices into the matched pairs
+  bool positive;  // handedness of (new sample, b, c) on the source
+};
+std::vector<GuardCorners> guard_corners(const PreprocessedShape& source, const std::vector<SamplePair>& matched,
+                                        int source_vertex, float min_distance);
+
 class HandednessGuard {
  public:
+  HandednessGuard(const PreprocessedShape& target, const std::vector<SamplePair>& matched,
+                  const std::vector<GuardCorners>& corners);
   HandednessGuard(const PreprocessedShape& source, const PreprocessedShape& target,
-                  const std::vector<SamplePair>& matched, int source_vertex, float min_distance);
+                  const std::vector<SamplePair>& matched, int source_vertex, float min_distance)
+      : HandednessGuard(target, matched, guard_corners(source, matched, source_vertex, min_distance)) {}
   bool accepts(int target_vertex) const;
 
  private:
