@@ -138,11 +138,10 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
   // much of their time (a 52K pair's four refinements 2.6 s, its finishings 2.4 s each).
   // Every result is the same whatever the number of workers.
   const int threads = resolve_thread_count(settings.threads);
-  auto threads_each = [threads](size_t count) { return std::max(1, threads / std::max(1, static_cast<int>(count))); };
-  ZoomOutOptions shared_out = options;
-  shared_out.threads = threads_each(starts.size());
   std::vector<SpectralMap> refined_starts(starts.size());
-  parallel_for(static_cast<int>(starts.size()), threads, [&](int i, int) {
+  parallel_for_sharing(static_cast<int>(starts.size()), threads, [&](int i, int workers) {
+    ZoomOutOptions shared_out = options;
+    shared_out.threads = workers;
     continue_on_samples(source_side, target_side, options.k_end, shared_out, starts[i].sampled, control);
     refined_starts[i] = zoomout_dense(source_side, target_side, starts[i].sampled, shared_out, control);
   });
@@ -191,13 +190,22 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
                                            settings.dense_choice_sources, threads);
   };
   result.candidates.resize(maps.size());
-  const int finishing_threads = threads_each(maps.size());
-  parallel_for(static_cast<int>(maps.size()), threads, [&](int i, int) {
-    if (finished[i]) finish(maps[i], repairs[i], finishing_threads);
+  // The finished ones first: a finishing costs many measurings.
+  std::vector<int> order;
+  for (size_t i = 0; i < maps.size(); ++i)
+    if (finished[i]) order.push_back(static_cast<int>(i));
+  const int finishing = static_cast<int>(order.size());
+  for (size_t i = 0; i < maps.size(); ++i)
+    if (!finished[i]) order.push_back(static_cast<int>(i));
+  auto finish_and_measure = [&](int i, int workers) {
+    if (finished[i]) finish(maps[i], repairs[i], workers);
     result.candidates[i].tracked_index = refined[i];
     result.candidates[i].finished = finished[i];
-    measure(i, result.candidates[i], finishing_threads);
-  });
+    measure(i, result.candidates[i], workers);
+  };
+  parallel_for_sharing(finishing, threads, [&](int k, int workers) { finish_and_measure(order[k], workers); });
+  parallel_for_sharing(static_cast<int>(order.size()) - finishing, threads,
+                       [&](int k, int workers) { finish_and_measure(order[finishing + k], workers); });
   control.check_cancelled();
   result.chosen = choose_dense_candidate(result.candidates, settings.orientation_margin, result.why);
   SpectralMap& winner = maps[result.chosen];

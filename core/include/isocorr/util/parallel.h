@@ -57,4 +57,18 @@ inline void parallel_for(int count, int threads,
   if (error) std::rethrow_exception(error);
 }
 
+// Calls body(i, workers) for i in [0, count) on `threads` workers, where each body may use
+// `workers` threads of its own: one body per worker while a full round remains, then the
+// last few side by side with the workers shared out among them. Handing every body one
+// worker instead leaves the others idle for the whole of a last, lone body (three
+// candidate finishings on two cores: a third of the time).
+inline void parallel_for_sharing(int count, int threads, const std::function<void(int index, int workers)>& body) {
+  threads = std::max(1, threads);
+  const int full_rounds = count / threads * threads;
+  parallel_for(full_rounds, threads, [&](int i, int) { body(i, 1); });
+  const int rest = count - full_rounds;
+  if (rest == 0) return;
+  parallel_for(rest, rest, [&](int i, int) { body(full_rounds + i, threads / rest + (i < threads % rest ? 1 : 0)); });
+}
+
 }  // namespace isocorr
