@@ -190,7 +190,10 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
                                            settings.dense_choice_sources, threads);
   };
   result.candidates.resize(maps.size());
-  // The finished ones first: a finishing costs many measurings.
+  // The finished ones first: a finishing costs several measurings. Where all maps are
+  // alike (all finished, or none), the last few share the workers; otherwise the cheap
+  // measurings run beside the last finishings, one worker each (run after them instead,
+  // a 5K pair's two finishings and two measurings took 0.045 s longer).
   std::vector<int> order;
   for (size_t i = 0; i < maps.size(); ++i)
     if (finished[i]) order.push_back(static_cast<int>(i));
@@ -203,9 +206,11 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
     result.candidates[i].finished = finished[i];
     measure(i, result.candidates[i], workers);
   };
-  parallel_for_sharing(finishing, threads, [&](int k, int workers) { finish_and_measure(order[k], workers); });
-  parallel_for_sharing(static_cast<int>(order.size()) - finishing, threads,
-                       [&](int k, int workers) { finish_and_measure(order[finishing + k], workers); });
+  const int count = static_cast<int>(order.size());
+  if (finishing == count || finishing == 0)
+    parallel_for_sharing(count, threads, [&](int k, int workers) { finish_and_measure(order[k], workers); });
+  else
+    parallel_for(count, threads, [&](int k, int) { finish_and_measure(order[k], 1); });
   control.check_cancelled();
   result.chosen = choose_dense_candidate(result.candidates, settings.orientation_margin, result.why);
   SpectralMap& winner = maps[result.chosen];
