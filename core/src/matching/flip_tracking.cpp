@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 
 #include <Eigen/Core>
 
@@ -187,8 +188,10 @@ void reassign_pairs(const PreprocessedShape& source, const PreprocessedShape& ta
     distances_to_anchor_sources(source, anchors, pairs[p].source_sample, source_distances);
     const int current = pairs[p].target_sample;
     candidates.clear();
-    for (size_t j = 0; j < pool.size(); ++j)
-      if (target.sample_field(current, pool[j]) <= radius) candidates.push_back({{}, static_cast<int>(j)});
+    for (size_t j = 0; j < pool.size(); ++j) {
+      if (target.sample_field(current, pool[j]) > radius) continue;
+      candidates.push_back({{}, static_cast<int>(j)});
+    }
     const TrimmedDistortion distortion(anchor_count, static_cast<int>(p), options.trim_fraction);
     const BestCandidate best = least_distortion(distortion, source_distances.data(), distances, candidates, scratch);
     if (best.index >= 0) pairs[p].target_sample = pool[best.index];
@@ -285,6 +288,8 @@ TrackingPlan plan_tracking(const PreprocessedShape& source, int level0_count, in
 
 TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& target, const TrackingPlan& plan,
                      const Level0Map& map, int rank, const TrackingOptions& options, const JobControl& control) {
+  if (static_cast<int>(map.target_of.size()) != plan.level0_count)
+    throw std::logic_error("track_map: the plan is for another number of level-0 samples");
   TrackedMap tracked;
   tracked.level0_rank = rank;
   tracked.level0_diso = map.diso;
