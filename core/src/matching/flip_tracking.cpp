@@ -32,12 +32,6 @@ struct AnchorDistances {
   const float* pool_row(size_t j) const { return pool_rows.data() + j * anchor_count; }
 };
 
-void distances_to_anchor_sources(const PreprocessedShape& source, const std::vector<SamplePair>& anchors,
-                                 int source_sample, std::vector<float>& out) {
-  out.resize(anchors.size());
-  for (size_t a = 0; a < anchors.size(); ++a) out[a] = source.sample_field(anchors[a].source_sample, source_sample);
-}
-
 // d_iso(s, t | anchors) from s's distances to the first `count` anchors' sources and t's to
 // their images, with the largest `trim` share of the terms left out: a trimmed mean, so
 // that a few misplaced anchors or a non-isometric part (a cat's tail) do not decide the
@@ -176,16 +170,14 @@ BestCandidate least_distortion(const TrimmedDistortion& distortion, const float*
 // own), and an early pair that is off by a sample spacing biases every later choice. After
 // each level every pair is therefore re-chosen near its current image against all the
 // other pairs (leave-one-out), which moves such anchors to where the later ones agree.
-void reassign_pairs(const PreprocessedShape& source, const PreprocessedShape& target,
-                    const std::vector<int>& pool, double radius, const TrackingOptions& options,
-                    std::vector<SamplePair>& pairs) {
+void reassign_pairs(const PreprocessedShape& target, const TrackingPlan& plan, const std::vector<int>& pool,
+                    double radius, const TrackingOptions& options, std::vector<SamplePair>& pairs) {
   const std::vector<SamplePair> anchors = pairs;
   const size_t anchor_count = std::min(anchors.size(), static_cast<size_t>(options.anchor_cap));
   const AnchorDistances distances(target, anchors, anchor_count, pool);
-  std::vector<float> source_distances, scratch;
+  std::vector<float> scratch;
   std::vector<Candidate> candidates;
   for (size_t p = 0; p < pairs.size(); ++p) {
-    distances_to_anchor_sources(source, anchors, pairs[p].source_sample, source_distances);
     const int current = pairs[p].target_sample;
     candidates.clear();
     for (size_t j = 0; j < pool.size(); ++j) {
@@ -193,7 +185,7 @@ void reassign_pairs(const PreprocessedShape& source, const PreprocessedShape& ta
       candidates.push_back({{}, static_cast<int>(j)});
     }
     const TrimmedDistortion distortion(anchor_count, static_cast<int>(p), options.trim_fraction);
-    const BestCandidate best = least_distortion(distortion, source_distances.data(), distances, candidates, scratch);
+    const BestCandidate best = least_distortion(distortion, plan.distances_to(p), distances, candidates, scratch);
     if (best.index >= 0) pairs[p].target_sample = pool[best.index];
     pairs[p].diso = best.cost;
   }
@@ -203,8 +195,8 @@ void reassign_pairs(const PreprocessedShape& source, const PreprocessedShape& ta
 // the small triangles of the orientation test. Each pair's image is therefore also
 // sought among all target vertices (descent from its sample against the anchors' fields,
 // which cover every vertex): no new geodesics are needed.
-void refine_to_vertices(const PreprocessedShape& source, const PreprocessedShape& target,
-                        const TrackingOptions& options, std::vector<SamplePair>& pairs) {
+void refine_to_vertices(const PreprocessedShape& target, const TrackingPlan& plan, const TrackingOptions& options,
+                        std::vector<SamplePair>& pairs) {
   const size_t anchor_count = std::min(pairs.size(), static_cast<size_t>(options.anchor_cap));
   const MeshTopology& topology = target.geodesics().topology();
   // Pair p's anchors are the first anchor_count pairs but p itself: their distances from
@@ -216,7 +208,7 @@ void refine_to_vertices(const PreprocessedShape& source, const PreprocessedShape
     anchor_fields.clear();
     for (size_t a = 0; a < anchor_count; ++a) {
       if (a == p) continue;
-      anchor_distances.push_back(source.sample_field(pairs[a].source_sample, pairs[p].source_sample));
+      anchor_distances.push_back(plan.distances_to(p)[a]);
       anchor_fields.push_back(target.field_row(pairs[a].target_sample));
     }
     const size_t count = anchor_distances.size();
@@ -276,13 +268,17 @@ TrackingPlan plan_tracking(const PreprocessedShape& source, int level0_count, in
       if (is_matched[s] || source.sample_step(s) > 2 * level) continue;
       TrackingPlan::Step& step = steps.emplace_back();
       step.source_sample = s;
-      distances_to_anchor_sources(source, matched, s, step.anchor_distances);
       if (options.handedness_guard)
         step.guard = guard_corners(source, matched, source.sample_vertex(s), guard_distance);
     }
     for (const TrackingPlan::Step& step : steps) matched.push_back({step.source_sample, 0, 0.f}), is_matched[step.source_sample] = 1;
   }
   plan.orientation = orientation_triangles(source, matched);
+  plan.pair_count = static_cast<int>(matched.size());
+  plan.pair_distances.resize(matched.size() * matched.size());
+  for (size_t p = 0; p < matched.size(); ++p)
+    for (size_t a = 0; a < matched.size(); ++a)
+      plan.pair_distances[p * matched.size() + a] = source.sample_field(matched[a].source_sample, matched[p].source_sample);
   return plan;
 }
 
@@ -313,10 +309,10 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
     const TrimmedDistortion distortion(anchor_count, -1, options.trim_fraction);
 
     for (const TrackingPlan::Step& step : plan.levels[level - 1]) {
-      const std::vector<float>& source_distances = step.anchor_distances;
+      const float* source_distances = plan.distances_to(tracked.pairs.size());  // this step's pair
       // Parent: the nearest sample matched at an earlier level.
-      const size_t parent_index = static_cast<size_t>(
-          std::min_element(source_distances.begin(), source_distances.end()) - source_distances.begin());
+      const size_t parent_index =
+          static_cast<size_t>(std::min_element(source_distances, source_distances + anchors.size()) - source_distances);
       const SamplePair* parent = &anchors[parent_index];
       const float parent_distance = source_distances[parent_index];
       const double window = options.window_factor * parent_distance + radius;
@@ -333,13 +329,13 @@ TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& t
           if (pass == 0 && !guard->accepts(target.sample_vertex(pool[j]))) continue;
           candidates.push_back({{}, static_cast<int>(j)});
         }
-        best = least_distortion(distortion, source_distances.data(), distances, candidates, scratch);
+        best = least_distortion(distortion, source_distances, distances, candidates, scratch);
       }
       tracked.pairs.push_back({step.source_sample, best.index >= 0 ? pool[best.index] : -1, best.cost});
     }
-    reassign_pairs(source, target, pool, radius, options, tracked.pairs);
+    reassign_pairs(target, plan, pool, radius, options, tracked.pairs);
   }
-  refine_to_vertices(source, target, options, tracked.pairs);
+  refine_to_vertices(target, plan, options, tracked.pairs);
   tracked.diso = sample_map_diso(source, target, tracked.pairs);
   tracked.orientation = orientation_agreement(target, tracked.pairs, plan.orientation);
   return tracked;

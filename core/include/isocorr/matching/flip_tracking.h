@@ -31,18 +31,21 @@ struct TrackedMap {
 };
 
 // What tracking needs of the source alone, the same for every level-0 map of a pair: the
-// order in which source samples are matched, their distances to the samples matched before
-// them, and the source's half of the handedness tests (orientation.h). Built once per
-// pair, so that each map's tracking does only the target's work.
+// order in which source samples are matched (every map's pairs come in this order), the
+// distances between them, and the source's half of the handedness tests (orientation.h).
+// Built once per pair, so that each map's tracking does only the target's work.
 struct TrackingPlan {
   struct Step {
     int source_sample = 0;
-    std::vector<float> anchor_distances;  // to the source samples of the pairs before its level
-    std::vector<GuardCorners> guard;      // over those pairs (empty without the guard)
+    std::vector<GuardCorners> guard;  // over the pairs before its level (empty without the guard)
   };
-  int level0_count = 0;               // source samples 0..M-1 are matched at level 0
+  int level0_count = 0;                   // source samples 0..M-1 are matched at level 0
   std::vector<std::vector<Step>> levels;  // levels 1..K1, each in matching order
   std::vector<PairTriangle> orientation;  // over all pairs, level-0 ones first
+  int pair_count = 0;
+  std::vector<float> pair_distances;  // pair_count squared
+  // The distances from every pair's source sample to pair p's (sample_field), in pair order.
+  const float* distances_to(size_t p) const { return pair_distances.data() + p * pair_count; }
 };
 
 // Levels 1..`levels` after `level0_count` level-0 samples; each new source sample (of steps
