@@ -53,6 +53,34 @@ std::vector<double> removal_order_keys(const TriangleMesh& mesh, const CutSpec& 
   return keys;
 }
 
+// The largest connected piece (by area) of the faces left when the first `removed` faces of
+// `order` are cut away.
+struct KeptPiece {
+  std::vector<char> face_in_piece;
+  double area = 0;
+};
+
+KeptPiece largest_piece(const TriangleMesh& mesh, const std::vector<double>& areas, const std::vector<int>& order,
+                        size_t removed) {
+  std::vector<char> kept(mesh.faces.size(), 1);
+  for (size_t i = 0; i < removed; ++i) kept[order[i]] = 0;
+  UnionFind pieces(mesh.num_vertices());
+  for (size_t f = 0; f < kept.size(); ++f)
+    if (kept[f]) {
+      pieces.unite(mesh.faces[f][0], mesh.faces[f][1]);
+      pieces.unite(mesh.faces[f][0], mesh.faces[f][2]);
+    }
+  std::vector<double> piece_area(mesh.num_vertices(), 0.0);
+  for (size_t f = 0; f < kept.size(); ++f)
+    if (kept[f]) piece_area[pieces.find(mesh.faces[f][0])] += areas[f];
+  const int largest = static_cast<int>(std::max_element(piece_area.begin(), piece_area.end()) - piece_area.begin());
+  KeptPiece piece;
+  piece.area = piece_area[largest];
+  piece.face_in_piece.assign(kept.size(), 0);
+  for (size_t f = 0; f < kept.size(); ++f) piece.face_in_piece[f] = kept[f] && pieces.find(mesh.faces[f][0]) == largest;
+  return piece;
+}
+
 }  // namespace
 
 CutKind parse_cut_kind(const std::string& name) {
@@ -83,31 +111,25 @@ PartialShape cut_partial_shape(const TriangleMesh& full, const CutSpec& spec) {
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return keys[a] < keys[b]; });
 
-  const double total = total_area(mesh);
-  std::vector<char> kept(mesh.faces.size(), 1);
-  double removed = 0;
-  for (int f : order) {
-    if (removed >= (1 - spec.keep_area) * total) break;
-    kept[f] = 0;
-    removed += face_area(mesh, mesh.faces[f]);
+  // The fewest faces in removal order whose removal leaves no piece larger than the kept
+  // share: a cut that splits the mesh drops the smaller pieces, so stopping once the removed
+  // area alone reached the share kept 23-46% of a FAUST body where 55% was asked.
+  std::vector<double> areas(mesh.faces.size());
+  for (size_t f = 0; f < areas.size(); ++f) areas[f] = face_area(mesh, mesh.faces[f]);
+  const double total = std::accumulate(areas.begin(), areas.end(), 0.0);
+  const double allowed = spec.keep_area * total;
+  size_t low = 0, high = 0;  // the answer lies in (low, high]; removing `high` faces is enough
+  for (double removed = 0; high < order.size() && removed < total - allowed; ++high) removed += areas[order[high]];
+  while (high - low > 1) {
+    const size_t middle = low + (high - low) / 2;
+    (largest_piece(mesh, areas, order, middle).area <= allowed ? high : low) = middle;
   }
-
-  // The largest connected piece (by area) of the kept faces.
-  UnionFind pieces(mesh.num_vertices());
-  for (size_t f = 0; f < kept.size(); ++f)
-    if (kept[f]) {
-      pieces.unite(mesh.faces[f][0], mesh.faces[f][1]);
-      pieces.unite(mesh.faces[f][0], mesh.faces[f][2]);
-    }
-  std::vector<double> piece_area(mesh.num_vertices(), 0.0);
-  for (size_t f = 0; f < kept.size(); ++f)
-    if (kept[f]) piece_area[pieces.find(mesh.faces[f][0])] += face_area(mesh, mesh.faces[f]);
-  const int largest = static_cast<int>(std::max_element(piece_area.begin(), piece_area.end()) - piece_area.begin());
-  if (piece_area[largest] <= 0) throw InputError("the cut leaves no surface");
+  const KeptPiece piece = largest_piece(mesh, areas, order, high);
+  if (piece.area <= 0) throw InputError("the cut leaves no surface");
 
   std::vector<int> new_index(mesh.num_vertices(), -1);
-  for (size_t f = 0; f < kept.size(); ++f) {
-    if (!kept[f] || pieces.find(mesh.faces[f][0]) != largest) continue;
+  for (size_t f = 0; f < piece.face_in_piece.size(); ++f) {
+    if (!piece.face_in_piece[f]) continue;
     Face face;
     for (int c = 0; c < 3; ++c) {
       int& index = new_index[mesh.faces[f][c]];
@@ -120,7 +142,7 @@ PartialShape cut_partial_shape(const TriangleMesh& full, const CutSpec& spec) {
     }
     part.mesh.faces.push_back(face);
   }
-  part.kept_area = piece_area[largest] / total;
+  part.kept_area = piece.area / total;
   part.description += ", " + std::to_string(static_cast<int>(std::lround(100 * part.kept_area))) + "% of the area kept";
   if (part.mesh.num_vertices() < kMinMatchableVertices) throw InputError("the cut leaves too few vertices to match");
   return part;

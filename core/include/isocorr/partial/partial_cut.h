@@ -31,9 +31,11 @@ struct PartialShape {
 };
 
 // Removes faces by `spec`, keeps the largest connected piece of what is left and renumbers
-// its vertices compactly. The kept share is met within about one ring of faces; the
-// largest piece can be smaller when the cut splits the mesh. Deterministic for a given
-// mesh and spec. Throws InputError when nothing usable is left.
+// its vertices compactly. Faces are removed in the cut's order until no piece is larger
+// than the kept share, so the part keeps that share within about one ring of faces also
+// when the cut splits off a limb (the smaller pieces go with the cut); it keeps less only
+// where removing one more face splits the largest piece. Deterministic for a given mesh
+// and spec. Throws InputError when nothing usable is left.
 PartialShape cut_partial_shape(const TriangleMesh& full, const CutSpec& spec);
 
 // "ball", "plane" or "holes" (InputError otherwise).
