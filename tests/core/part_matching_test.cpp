@@ -11,6 +11,7 @@
 #include "isocorr/matching/pipeline.h"
 #include "isocorr/mesh/procedural_meshes.h"
 #include "isocorr/partial/partial_cut.h"
+#include "isocorr/refinement/dense_choice.h"
 #include "isocorr/util/error.h"
 
 namespace isocorr {
@@ -50,6 +51,26 @@ TEST(PartialCut, ACutThatSplitsOffLimbsKeepsNearlyTheAskedShare) {
       EXPECT_LE(part.kept_area, 0.2) << cut_kind_name(kind) << " seed " << seed;
       EXPECT_GT(part.kept_area, 0.16) << cut_kind_name(kind) << " seed " << seed;
     }
+}
+
+// A part's true map agrees with the whole's curvature once the part's is taken at the
+// whole's lengths and away from the cut's rim; at the part's own sqrt(area) (the complete
+// shapes' measure) every map of a part, the true one too, disagrees by the difference.
+TEST(PartMapEvidence, APartsTrueMapAgreesWithTheWholesCurvature) {
+  const TriangleMesh full = limbed_blob(3);
+  const RenumberedCopy copy = rotated_scaled_renumbered(full, 2.5, 11);
+  const PartialShape part = cut_partial_shape(full, {CutKind::kGeodesicBall, 0.55, 1, 2});
+  const auto source = PreprocessedShape::build(part.mesh, PreprocessOptions{});
+  const auto target = PreprocessedShape::build(copy.mesh, PreprocessOptions{});
+  std::vector<int> truth(source->mesh().num_vertices());
+  for (int p = 0; p < static_cast<int>(truth.size()); ++p)
+    truth[p] = target->clean().input_to_clean[copy.permutation[part.full_vertex[source->clean().clean_to_input[p]]]];
+  const double whole_measure = curvature_disagreement(*source, *target, truth);
+  const PartMapEvidence evidence = measure_part_maps(*source, *target, {&truth}, 1)[0];
+  EXPECT_NEAR(evidence.scale, 1 / 2.5, 0.01);
+  const double part_measure = evidence.curvature;
+  EXPECT_LT(part_measure, 0.02);                  // 0.001 here
+  EXPECT_LT(part_measure, 0.25 * whole_measure);  // 0.19 at the part's own lengths
 }
 
 // Parts keeping this share of the creature's area are matched reliably today (issue 11).

@@ -1,9 +1,12 @@
 #include "part_geometry.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
+#include "isocorr/shape/mean_curvature.h"
 #include "isocorr/util/error.h"
+#include "isocorr/util/parallel.h"
 
 namespace isocorr {
 
@@ -75,6 +78,44 @@ double scale_invariant_distortion(const std::vector<std::vector<double>>& gs, co
                       exact[i][a], target_exact[target_of[i]][target_of[a]]) /
              std::max(gs[i][a], 1e-12);
   return sum / std::max(1, m * (m - 1) / 2);
+}
+
+// The smoothing spreads what the rim does to the curvature over a few smoothing lengths;
+// twice the largest keeps the compared points out of it.
+constexpr double kRimReachInLengths = 2.0;
+// Kappas within this ratio share one smoothing of the part.
+constexpr double kScaleStep = 1.02;
+
+int PartCurvature::key(double scale) { return static_cast<int>(std::lround(std::log(scale) / std::log(kScaleStep))); }
+
+PartCurvature::PartCurvature(const PartGeometry& part, const std::vector<double>& scales, int threads)
+    : part_(part) {
+  if (part.target.smoothed_curvature().cols() == 0) return;  // no spectral preprocessing: nothing to compare
+  for (const double scale : scales)
+    if (scale > 0 && std::isfinite(scale)) at_scale_[key(scale)];
+  std::vector<std::pair<const int, AtScale>*> slots;
+  for (auto& slot : at_scale_) slots.push_back(&slot);
+  parallel_for(static_cast<int>(slots.size()), threads, [&](int i, int) {
+    const double scale = std::pow(kScaleStep, slots[i]->first);
+    const double length = std::sqrt(part.target.area()) * scale;  // the whole's sqrt(area), in part units
+    AtScale& at = slots[i]->second;
+    at.curvature = smoothed_mean_curvature(part.shape.mesh(), part.shape.normals(), kCurvatureScales, length);
+    at.source_band = static_cast<float>(kRimReachInLengths * kCurvatureScales.back() * length);
+    at.target_band = static_cast<float>(at.source_band / scale);
+  });
+}
+
+double PartCurvature::disagreement(const std::vector<int>& forward, double scale) const {
+  const auto found = scale > 0 && std::isfinite(scale) ? at_scale_.find(key(scale)) : at_scale_.end();
+  if (found == at_scale_.end()) return 0;  // no curvature to compare (or a scale not given)
+  const AtScale& at = found->second;
+  std::vector<std::pair<int, int>> pairs, all;
+  for (const int v : part_.shape.spectral_samples()) {
+    all.emplace_back(v, forward[v]);
+    if (part_.boundary_distance[v] >= at.source_band && part_.target_boundary_distance[forward[v]] >= at.target_band)
+      pairs.emplace_back(v, forward[v]);
+  }
+  return curvature_disagreement(at.curvature, part_.target.smoothed_curvature(), pairs.empty() ? all : pairs);
 }
 
 }  // namespace isocorr

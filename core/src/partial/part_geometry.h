@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <vector>
 
 #include <Eigen/Core>
@@ -53,6 +54,33 @@ inline float mismatch(float source_distance, float target_distance, bool source_
   if (target_exact) return std::max(gap, 0.0f);
   return 0.0f;
 }
+
+// Smoothed curvature compared across a cut (mean_curvature.h, dense_choice.h). The part's
+// own curvature would be measured at its own sqrt(area), smaller than the whole's (0.74 of
+// it for a 55% part), which shrinks its values and its smoothing lengths alike: every map,
+// right or wrong, then disagrees by that much (0.19 for the true map of a 55% part of the
+// test creature). Here a map of kappa (source length per target length) is judged by the
+// part's curvature at the target's lengths carried to the part by that kappa: if the map is
+// right, that is where the part looks like the whole. Only points beyond the smoothing's
+// reach from either rim count (a cut's edge is no crease of the whole shape).
+class PartCurvature {
+ public:
+  // The part's curvature at each kappa of `scales` to within 2% (one smoothing per distinct
+  // one: the part search's candidates cluster), on `threads` workers.
+  PartCurvature(const PartGeometry& part, const std::vector<double>& scales, int threads);
+  // curvature_disagreement of `forward`, a map of kappa `scale` (one of those given), over
+  // the source's spectral samples away from both rims (all of them when none is).
+  double disagreement(const std::vector<int>& forward, double scale) const;
+
+ private:
+  struct AtScale {
+    Eigen::MatrixXf curvature;
+    float source_band = 0, target_band = 0;  // raw, on each shape
+  };
+  static int key(double scale);
+  const PartGeometry& part_;
+  std::map<int, AtScale> at_scale_;
+};
 
 // Extremity samples this close to the boundary (fraction of the shape's diameter, the
 // saliency's extremity radius) are the rim of a cut, not a tip of the shape.

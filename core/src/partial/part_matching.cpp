@@ -453,12 +453,13 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   };
   std::vector<double> covered(maps.size());
   const std::vector<double> target_vertex_areas = vertex_areas(target.mesh());
+  const PartCurvature part_curvature(part, scales, threads);
   parallel_for(static_cast<int>(maps.size()), threads, [&](int i, int) {
     dense[i] = dense_part_map(part, result.tracked[i], sample_anchors(target, result.tracked[i].pairs),
                               scales[i], visit_order(maps[i]), control);
     result.tracked[i].orientation = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
                                                                 target.normals(), dense[i].forward);
-    curvature[i] = curvature_disagreement(source, target, dense[i].forward);
+    curvature[i] = part_curvature.disagreement(dense[i].forward, scales[i]);
     covered[i] = covered_share(source, target, target_vertex_areas, scales[i], dense[i]);
   });
   // The winner: least curvature disagreement among the maps that keep handedness. The
@@ -591,7 +592,7 @@ PartMapEvidence measure_with(const PartGeometry& part, const std::vector<int>& f
         ++count;
       }
   evidence.distortion = count ? sum / count / source.diameter() : 0.0;
-  evidence.curvature = curvature_disagreement(source, target, forward);
+  evidence.curvature = PartCurvature(part, {evidence.scale}, threads).disagreement(forward, evidence.scale);
   return evidence;
 }
 

@@ -11,11 +11,11 @@
 namespace isocorr {
 
 Eigen::MatrixXf smoothed_mean_curvature(const TriangleMesh& mesh, const std::vector<Vec3>& normals,
-                                        const std::vector<double>& scales) {
+                                        const std::vector<double>& scales, double reference_length) {
   const int n = mesh.num_vertices();
   const Eigen::SparseMatrix<double> stiffness = cotangent_laplacian(mesh);
   const Eigen::VectorXd mass = lumped_mass(mesh);
-  const double root_area = std::sqrt(mass.sum());
+  const double root_area = reference_length > 0 ? reference_length : std::sqrt(mass.sum());
   Eigen::MatrixXd position(n, 3);
   for (int v = 0; v < n; ++v) position.row(v) = mesh.vertices[v].transpose();
   const Eigen::MatrixXd curvature_normal = stiffness * position;  // 2 H n M at each vertex

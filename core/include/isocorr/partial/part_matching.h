@@ -43,11 +43,12 @@ struct PartMapEvidence {
   double orientation = 0;  // fraction of source faces whose image keeps handedness
   double distortion = 0;   // boundary-aware mean mismatch over sample pairs, / source diameter
   double scale = 1;        // kappa of the map: median source/target ratio of exact distances
-  double curvature = 0;    // smoothed curvature disagreement (dense_choice.h)
+  double curvature = 0;    // smoothed curvature disagreement at kappa, away from the rims (part_geometry.h)
 };
 
 // One evidence per forward map (clean numbering), in order; the part's boundary distances
-// are computed once. Costs kPartEvidenceSources fast-marching fields on the target per map.
+// are computed once, its curvature once per map at the map's kappa (part_geometry.h).
+// Costs kPartEvidenceSources fast-marching fields on the target per map.
 std::vector<PartMapEvidence> measure_part_maps(const PreprocessedShape& source, const PreprocessedShape& target,
                                                const std::vector<const std::vector<int>*>& forwards, int threads);
 

@@ -26,8 +26,12 @@ inline const std::vector<double> kCurvatureScales = {0.01, 0.02, 0.04};
 // n the unit vertex normal, so convex regions of an outward-oriented mesh are positive),
 // times sqrt(area) (dimensionless: the same for the shape at any scale), each column
 // diffused by one implicit heat step (M + t L) h = M H with t = (scale * sqrt(area))^2.
+// `reference_length`, when positive, replaces sqrt(area) in both places: a part of a shape
+// is compared with the whole at the whole's sqrt(area), in the part's units (a 55% part's
+// own sqrt(area) is 0.74 of it, which would shrink its values and its smoothing alike).
 Eigen::MatrixXf smoothed_mean_curvature(const TriangleMesh& mesh, const std::vector<Vec3>& normals,
-                                        const std::vector<double>& scales = kCurvatureScales);
+                                        const std::vector<double>& scales = kCurvatureScales,
+                                        double reference_length = 0);
 
 // How much two shapes' smoothed curvatures differ at corresponding points: for each scale
 // (column), sum |h_S(a) - h_T(b)| over sum (|h_S(a)| + |h_T(b)|) over the (a, b) pairs, then
