@@ -122,7 +122,7 @@ std::vector<SettingField> build_schema() {
           [](auto& s) -> auto& { return s.method; }, {"full", "part", "ravac"}),
       row("part_extremities", kMatch, closed(3, 7), "part matching: source extremities matched combinatorially (M)",
           [](auto& s) -> auto& { return s.part_extremities; }),
-      row("part_candidates", kMatch, closed(1, 64), "part matching (part, ravac): extremity maps grown to sample maps and compared",
+      row("part_candidates", kMatch, closed(1, 256), "part matching (part, ravac): extremity maps grown to sample maps and compared",
           [](auto& s) -> auto& { return s.part_candidates; }),
       row("refine", kMatch, {}, "after tracking: zoomout (spectral refinement, choice by dense evidence) or none (the C2F dense level)",
           [](auto& s) -> auto& { return s.refine; }, {"zoomout", "none"}),
