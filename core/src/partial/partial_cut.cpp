@@ -122,7 +122,10 @@ PartialShape cut_partial_shape(const TriangleMesh& full, const CutSpec& spec) {
   for (double removed = 0; high < order.size() && removed < total - allowed; ++high) removed += areas[order[high]];
   while (high - low > 1) {
     const size_t middle = low + (high - low) / 2;
-    (largest_piece(mesh, areas, order, middle).area <= allowed ? high : low) = middle;
+    if (largest_piece(mesh, areas, order, middle).area <= allowed)
+      high = middle;
+    else
+      low = middle;
   }
   const KeptPiece piece = largest_piece(mesh, areas, order, high);
   if (piece.area <= 0) throw InputError("the cut leaves no surface");
