@@ -35,34 +35,6 @@ const CutSpec kCuts[] = {
     {CutKind::kHoles, 0.8, 3, 4},
 };
 
-// Part vertex of each full-mesh vertex, -1 where it was cut away.
-std::vector<int> part_vertex_of(const PartialShape& part, int full_vertices) {
-  std::vector<int> part_vertex(full_vertices, -1);
-  for (size_t p = 0; p < part.full_vertex.size(); ++p) part_vertex[part.full_vertex[p]] = static_cast<int>(p);
-  return part_vertex;
-}
-
-// The pair's ground truth restricted to the source part (and, when the target was cut, to
-// points whose image and mirror image are kept), renumbered through the index maps.
-GroundTruth ground_truth_of_parts(const GroundTruth& full, const PartialShape& source_part, int source_vertices,
-                                  const PartialShape* target_part, int target_vertices) {
-  const std::vector<int> source_vertex = part_vertex_of(source_part, source_vertices);
-  std::vector<int> target_vertex(target_vertices);
-  std::iota(target_vertex.begin(), target_vertex.end(), 0);
-  if (target_part) target_vertex = part_vertex_of(*target_part, target_vertices);
-  GroundTruth truth;
-  truth.description = full.description + ", restricted to the parts";
-  for (size_t k = 0; k < full.source.size(); ++k) {
-    const int p = source_vertex[full.source[k]], t = target_vertex[full.target[k]];
-    const int mirror = full.mirrored_target.empty() ? 0 : target_vertex[full.mirrored_target[k]];
-    if (p < 0 || t < 0 || mirror < 0) continue;
-    truth.source.push_back(p);
-    truth.target.push_back(t);
-    if (!full.mirrored_target.empty()) truth.mirrored_target.push_back(mirror);
-  }
-  return truth;
-}
-
 struct Tally {
   int pairs = 0, right = 0;
   double kim = 0, d_grd = 0, auc = 0, coverage = 0, seconds = 0, matched_share = 0;

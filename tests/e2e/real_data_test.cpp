@@ -9,6 +9,7 @@
 #include "isocorr/geodesic/geodesic_diameter.h"
 #include "isocorr/matching/pipeline.h"
 #include "isocorr/mesh/mesh_io.h"
+#include "isocorr/partial/partial_cut.h"
 
 #ifndef ISOCORR_SHARED_DATA_DIR
 #define ISOCORR_SHARED_DATA_DIR "../shared/data"
@@ -17,19 +18,45 @@
 namespace isocorr {
 namespace {
 
-GroundTruthScore match_and_score(const std::string& dataset, const std::string& source, const std::string& target) {
-  const std::string dir = std::string(ISOCORR_SHARED_DATA_DIR) + "/" + dataset;
+BenchmarkPair listed_pair(const std::string& dir, const std::string& source, const std::string& target) {
   BenchmarkPair pair;
   for (const auto& listed : read_pairs_tsv(dir))
     if (listed.source_path == dir + "/" + source && listed.target_path == dir + "/" + target) pair = listed;
   EXPECT_FALSE(pair.gt_kind.empty()) << "pair not listed in " << dir << "/pairs.tsv";
+  return pair;
+}
+
+GroundTruthScore score_on_target(const TriangleMesh& target, const std::vector<int>& forward, const GroundTruth& truth) {
+  const MeshTopology topology(target);
+  const FastMarching geodesics(target, topology);
+  return score_against_ground_truth(target, geodesics, estimate_geodesic_diameter(geodesics), forward, truth,
+                                    EvaluationOptions{});
+}
+
+GroundTruthScore match_and_score(const std::string& dataset, const std::string& source, const std::string& target) {
+  const std::string dir = std::string(ISOCORR_SHARED_DATA_DIR) + "/" + dataset;
+  const BenchmarkPair pair = listed_pair(dir, source, target);
   const LoadedMesh s = load_mesh(pair.source_path), t = load_mesh(pair.target_path);
   const MatchResult result = match_meshes(s.mesh, t.mesh, MatchSettings{});
   const GroundTruth truth = load_ground_truth(dir, pair, s.mesh.num_vertices(), t.mesh.num_vertices());
-  const MeshTopology topology(t.mesh);
-  const FastMarching geodesics(t.mesh, topology);
-  return score_against_ground_truth(t.mesh, geodesics, estimate_geodesic_diameter(geodesics), result.output.forward,
-                                    truth, EvaluationOptions{});
+  return score_on_target(t.mesh, result.output.forward, truth);
+}
+
+// The source cut by `cut` (isocorr cut), matched to the whole target with --partial, scored
+// on the ground truth carried through the cut (as isocorr-bench-partial does).
+GroundTruthScore match_part_and_score(const std::string& dataset, const std::string& source,
+                                      const std::string& target, const CutSpec& cut) {
+  const std::string dir = std::string(ISOCORR_SHARED_DATA_DIR) + "/" + dataset;
+  const BenchmarkPair pair = listed_pair(dir, source, target);
+  const LoadedMesh s = load_mesh(pair.source_path), t = load_mesh(pair.target_path);
+  const PartialShape part = cut_partial_shape(s.mesh, cut);
+  MatchSettings settings;
+  settings.method = MatchMethod::kPart;
+  const MatchResult result = match_meshes(part.mesh, t.mesh, settings);
+  const GroundTruth truth =
+      ground_truth_of_parts(load_ground_truth(dir, pair, s.mesh.num_vertices(), t.mesh.num_vertices()), part,
+                            s.mesh.num_vertices(), nullptr, t.mesh.num_vertices());
+  return score_on_target(t.mesh, result.output.forward, truth);
 }
 
 class RealData : public ::testing::Test {
@@ -60,6 +87,16 @@ TEST_F(RealData, Faust5kPairThatC2FMirrorsIsRight) {
   const GroundTruthScore score = match_and_score("faust_5k", "off/tr_reg_000.off", "off/tr_reg_001.off");
   EXPECT_TRUE(score.flip_free) << score.flip_rule << "; mirrored " << score.mirrored_fraction;
   EXPECT_LT(score.mean_error, 0.015);
+}
+
+// A real body with three holes (80% of the area kept: the part benchmark's holes cut),
+// matched as a part: 0.013 measured. Before the part's curvature was compared at the whole's
+// lengths the choice kept a map with 11% of its points nearer their mirror image (0.048).
+TEST_F(RealData, Faust5kPartWithHolesIsRight) {
+  const GroundTruthScore score =
+      match_part_and_score("faust_5k", "off/tr_reg_000.off", "off/tr_reg_004.off", {CutKind::kHoles, 0.8, 3, 4});
+  EXPECT_LT(score.mirrored_fraction, 0.05);
+  EXPECT_LT(score.mean_error, 0.025);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "isocorr/eval/ground_truth.h"
 #include "isocorr/mesh/triangle_mesh.h"
 
 namespace isocorr {
@@ -37,6 +38,12 @@ struct PartialShape {
 // where removing one more face splits the largest piece. Deterministic for a given mesh
 // and spec. Throws InputError when nothing usable is left.
 PartialShape cut_partial_shape(const TriangleMesh& full, const CutSpec& spec);
+
+// A full pair's ground truth carried through the cuts: restricted to the source part (and,
+// when the target was cut too, to points whose image and mirror image were kept), in the
+// parts' vertex numbers. `source_vertices` and `target_vertices` count the full meshes.
+GroundTruth ground_truth_of_parts(const GroundTruth& full, const PartialShape& source_part, int source_vertices,
+                                  const PartialShape* target_part, int target_vertices);
 
 // "ball", "plane" or "holes" (InputError otherwise).
 CutKind parse_cut_kind(const std::string& name);
