@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "isocorr/shape/mean_curvature.h"
 #include "isocorr/util/error.h"
@@ -106,8 +107,10 @@ PartCurvature::PartCurvature(const PartGeometry& part, const std::vector<double>
 }
 
 double PartCurvature::disagreement(const std::vector<int>& forward, double scale) const {
+  if (at_scale_.empty()) return 0;  // no spectral preprocessing: no curvature to compare
   const auto found = scale > 0 && std::isfinite(scale) ? at_scale_.find(key(scale)) : at_scale_.end();
-  if (found == at_scale_.end()) return 0;  // no curvature to compare (or a scale not given)
+  // A map must not look perfect because its kappa was not among those smoothed for.
+  if (found == at_scale_.end()) throw std::logic_error("PartCurvature: kappa not among those given");
   const AtScale& at = found->second;
   std::vector<std::pair<int, int>> pairs, all;
   for (const int v : part_.shape.spectral_samples()) {

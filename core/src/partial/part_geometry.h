@@ -68,8 +68,9 @@ class PartCurvature {
   // The part's curvature at each kappa of `scales` to within 2% (one smoothing per distinct
   // one: the part search's candidates cluster), on `threads` workers.
   PartCurvature(const PartGeometry& part, const std::vector<double>& scales, int threads);
-  // curvature_disagreement of `forward`, a map of kappa `scale` (one of those given), over
-  // the source's spectral samples away from both rims (all of them when none is).
+  // curvature_disagreement of `forward`, a map of kappa `scale`, over the source's spectral
+  // samples away from both rims (all of them when none is). `scale` must be one of those
+  // given (std::logic_error otherwise); 0 when the target has no curvature.
   double disagreement(const std::vector<int>& forward, double scale) const;
 
  private:

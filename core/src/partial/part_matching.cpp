@@ -549,6 +549,7 @@ double matched_area_share(const std::vector<double>& areas, const std::vector<in
 
 namespace {
 
+// Everything but the curvature, which needs every map's kappa first (measure_part_maps).
 PartMapEvidence measure_with(const PartGeometry& part, const std::vector<int>& forward, int threads) {
   const PreprocessedShape& source = part.shape;
   const PreprocessedShape& target = part.target;
@@ -592,7 +593,6 @@ PartMapEvidence measure_with(const PartGeometry& part, const std::vector<int>& f
         ++count;
       }
   evidence.distortion = count ? sum / count / source.diameter() : 0.0;
-  evidence.curvature = PartCurvature(part, {evidence.scale}, threads).disagreement(forward, evidence.scale);
   return evidence;
 }
 
@@ -603,6 +603,11 @@ std::vector<PartMapEvidence> measure_part_maps(const PreprocessedShape& source, 
   const PartGeometry part(source, target);
   std::vector<PartMapEvidence> evidence;
   for (const std::vector<int>* forward : forwards) evidence.push_back(measure_with(part, *forward, threads));
+  // The part smoothed once per map's kappa, side by side.
+  std::vector<double> scales;
+  for (const PartMapEvidence& e : evidence) scales.push_back(e.scale);
+  const PartCurvature curvature(part, scales, threads);
+  for (size_t i = 0; i < evidence.size(); ++i) evidence[i].curvature = curvature.disagreement(*forwards[i], scales[i]);
   return evidence;
 }
 
