@@ -6,6 +6,7 @@
 // --cut-target the target loses a geodesic ball too (the general setting, --method ravac),
 // and points whose true image was cut away are not scored. The cut shapes exist only in
 // memory: the data's licences forbid copies.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -34,6 +35,7 @@ const CutSpec kCuts[] = {
     {CutKind::kPlane, 0.6, 1, 3},
     {CutKind::kHoles, 0.8, 3, 4},
 };
+const char* const kCutNames[] = {"ball70", "ball55", "plane", "holes"};
 
 struct Tally {
   int pairs = 0, right = 0;
@@ -56,6 +58,8 @@ int main(int argc, char** argv) {
   std::string data_root = "../shared/data";
   int limit = 3, points = 1000;
   double target_keep = 0;
+  bool candidates = false;
+  std::vector<std::string> cut_names;
   MatchSettings settings;
   settings.method = MatchMethod::kPart;
   app.add_option("datasets", datasets, "dataset folders under --data (default: faust_5k scape tosca_isometric_5k)");
@@ -65,6 +69,9 @@ int main(int argc, char** argv) {
   app.add_option("--cut-target", target_keep,
                  "also cut a geodesic ball from the target, keeping this share of its area (0: keep it whole)")
       ->check(CLI::Range(0.0, 0.95));
+  app.add_flag("--candidates", candidates,
+               "also score every dense candidate of the part search against the ground truth (* = chosen)");
+  app.add_option("--cuts", cut_names, "run only these cuts (ball70 ball55 plane holes; default all)");
   isocorr::cli::add_match_settings_flags(app, settings);
   CLI11_PARSE(app, argc, argv);
   if (datasets.empty()) datasets = {"faust_5k", "scape", "tosca_isometric_5k"};
@@ -92,7 +99,10 @@ int main(int argc, char** argv) {
       const MeshTopology topology(target_mesh);
       const FastMarching geodesics(target_mesh, topology);
       const double diameter = estimate_geodesic_diameter(geodesics);
-      for (const CutSpec& cut : kCuts) {
+      for (size_t c = 0; c < std::size(kCuts); ++c) {
+        const CutSpec& cut = kCuts[c];
+        if (!cut_names.empty() && std::find(cut_names.begin(), cut_names.end(), kCutNames[c]) == cut_names.end())
+          continue;
         const auto stem = [](const std::string& p) { return std::filesystem::path(p).stem().string(); };
         std::printf("%-18s %-12s -> %-12s %-5s", name.c_str(), stem(pair.source_path).c_str(),
                     stem(pair.target_path).c_str(), cut_kind_name(cut.kind));
@@ -116,6 +126,24 @@ int main(int argc, char** argv) {
                       100 * part.kept_area, part.mesh.num_vertices(), seconds, right ? "ok   " : "WRONG",
                       s.mean_error, s.mean_kim_error, s.kim_auc, s.mirrored_fraction, covered,
                       100 * result.target_matched_share);
+          if (candidates) {
+            // The notes say whose map was kept; when it is the part search's, result.chosen is its index.
+            const bool part_won = std::any_of(result.notes.begin(), result.notes.end(), [](const std::string& n) {
+              return n.find("search's map kept") != std::string::npos;
+            });
+            for (size_t i = 0; i < result.part_candidates.size(); ++i) {
+              const PartCandidate& pc = result.part_candidates[i];
+              const GroundTruthScore cs =
+                  score_against_ground_truth(target_mesh, geodesics, diameter, pc.forward, part_truth, options);
+              std::printf("   %c candidate %2zu: orientation %.2f curvature %.4f covered %.2f kappa %.3f distortion %.4f "
+                          "extremities %.4f | D_grd %.4f mirrored %.2f\n",
+                          part_won && static_cast<int>(i) == result.chosen ? '*' : ' ', i, pc.orientation,
+                          pc.curvature, pc.covered, pc.scale, pc.distortion, pc.level0_distortion, cs.mean_error,
+                          cs.mirrored_fraction);
+            }
+            for (const std::string& note : result.notes)
+              if (note.find("map kept") != std::string::npos || note.find("finalists") != std::string::npos) std::printf("   %s\n", note.c_str());
+          }
           for (Tally* t : {&tally, &all}) {
             ++t->pairs;
             t->seconds += seconds;

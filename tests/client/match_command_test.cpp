@@ -98,6 +98,9 @@ TEST_F(MatchCommand, CutPartMatchesWithPartialAndItsReverseMapMarksTheRest) {
   const nlohmann::json json = nlohmann::json::parse(in);
   EXPECT_EQ(json["settings"]["method"], "part");
   EXPECT_NEAR(json["part"]["target_matched_share"].get<double>(), 0.9, 0.1);
+  // The part search's candidates are listed with the evidence it weighed.
+  ASSERT_FALSE(json["part"]["search_candidates"].empty());
+  EXPECT_TRUE(json["part"]["search_candidates"][0].contains("curvature_disagreement"));
 
   const ShellRun eval = run_shell(cli_ + " eval " + map.string() + " --dataset " + dir_->string() + " --source meshes/part.ply --target meshes/creature_moved.ply --gt-kind index_map:gt/part_to_moved.txt --json");
   ASSERT_EQ(eval.exit_code, 0) << eval.output;

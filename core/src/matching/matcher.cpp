@@ -177,6 +177,7 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
   whole_result.notes.insert(whole_result.notes.begin(), result.notes.begin(), result.notes.end());
   whole_result.notes.push_back(why);
   whole_result.part_scale = whole_evidence.scale;
+  whole_result.part_candidates = std::move(result.part_candidates);
   result = std::move(whole_result);
   return whole;
 }
@@ -203,6 +204,7 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
   out.forward_confidence.resize(sc.input_to_clean.size());
   for (size_t i = 0; i < sc.input_to_clean.size(); ++i) out.forward_confidence[i] = dense.forward_diso[sc.input_to_clean[i]];
   for (DenseCandidate& candidate : result.refined) candidate.forward = forward_in_files(candidate.forward);
+  for (PartCandidate& candidate : result.part_candidates) candidate.forward = forward_in_files(candidate.forward);
   out.reverse.resize(tc.input_to_clean.size());
   out.reverse_confidence.resize(tc.input_to_clean.size());
   for (size_t i = 0; i < tc.input_to_clean.size(); ++i) {

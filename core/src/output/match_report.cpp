@@ -67,9 +67,18 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
     long matched = 0;
     for (int s : result.output.reverse) matched += s >= 0;
     // The reverse map has -1 where the target has no counterpart in the part.
+    json candidates = json::array();
+    for (const PartCandidate& c : result.part_candidates)
+      candidates.push_back({{"orientation", c.orientation},
+                            {"curvature_disagreement", c.curvature},
+                            {"covered_share", c.covered},
+                            {"scale", c.scale},
+                            {"distortion", c.distortion},
+                            {"extremity_distortion", c.level0_distortion}});
     report["part"] = {{"scale", result.part_scale},
                       {"target_matched_share", result.target_matched_share},
-                      {"target_vertices_matched", matched}};
+                      {"target_vertices_matched", matched},
+                      {"search_candidates", candidates}};
   }
   report["notes"] = result.notes;
   return report.dump(2);

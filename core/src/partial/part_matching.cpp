@@ -477,6 +477,9 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
         best = i;
     return best;
   };
+  for (int i = 0; i < static_cast<int>(maps.size()); ++i)
+    result.part_candidates.push_back({i, result.tracked[i].orientation, curvature[i], covered[i], scales[i],
+                                      result.tracked[i].diso, maps[i].distortion, dense[i].forward});
   int best = least_curvature(kMinCoveredShare);
   if (best < 0) best = least_curvature(0);
   result.chosen = best >= 0 ? best : rank_tracked(result.tracked, settings).front();
