@@ -127,22 +127,18 @@ int main(int argc, char** argv) {
                       s.mean_error, s.mean_kim_error, s.kim_auc, s.mirrored_fraction, covered,
                       100 * result.target_matched_share);
           if (candidates) {
-            // The notes say whose map was kept; when it is the part search's, result.chosen is its index.
-            const bool part_won = std::any_of(result.notes.begin(), result.notes.end(), [](const std::string& n) {
-              return n.find("search's map kept") != std::string::npos;
-            });
             for (size_t i = 0; i < result.part_candidates.size(); ++i) {
               const PartCandidate& pc = result.part_candidates[i];
               const GroundTruthScore cs =
                   score_against_ground_truth(target_mesh, geodesics, diameter, pc.forward, part_truth, options);
               std::printf("   %c candidate %2zu: orientation %.2f curvature %.4f covered %.2f kappa %.3f distortion %.4f "
                           "extremities %.4f | D_grd %.4f mirrored %.2f\n",
-                          part_won && static_cast<int>(i) == result.chosen ? '*' : ' ', i, pc.orientation,
+                          pc.kept ? '*' : ' ', i, pc.orientation,
                           pc.curvature, pc.covered, pc.scale, pc.distortion, pc.level0_distortion, cs.mean_error,
                           cs.mirrored_fraction);
             }
             for (const std::string& note : result.notes)
-              if (note.find("map kept") != std::string::npos || note.find("finalists") != std::string::npos) std::printf("   %s\n", note.c_str());
+              if (note.find("map kept") != std::string::npos) std::printf("   %s\n", note.c_str());  // part or whole, and why
           }
           for (Tally* t : {&tally, &all}) {
             ++t->pairs;

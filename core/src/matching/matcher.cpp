@@ -178,6 +178,7 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
   whole_result.notes.push_back(why);
   whole_result.part_scale = whole_evidence.scale;
   whole_result.part_candidates = std::move(result.part_candidates);
+  for (PartCandidate& candidate : whole_result.part_candidates) candidate.kept = false;
   result = std::move(whole_result);
   return whole;
 }

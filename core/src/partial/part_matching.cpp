@@ -296,7 +296,7 @@ DenseMap dense_part_map(const PartGeometry& part, const TrackedMap& chosen, cons
   dense.forward_diso.assign(source_vertices, 0.0f);
 
   // Per pair, what does not depend on the vertex: this loop runs once per source vertex
-  // and candidate, its cost function about ten times per vertex (64 candidates of a 28K
+  // and candidate, its cost function some 25 times per vertex (64 candidates of a 28K
   // part: most of a part match's time).
   const size_t count = pairs.size();
   std::vector<const float*> source_rows(count);
@@ -491,12 +491,14 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
         best = i;
     return best;
   };
-  for (int i = 0; i < static_cast<int>(maps.size()); ++i)
-    result.part_candidates.push_back({i, result.tracked[i].orientation, curvature[i], covered[i], scales[i],
-                                      result.tracked[i].diso, maps[i].distortion, dense[i].forward});
   int best = least_curvature(kMinCoveredShare);
   if (best < 0) best = least_curvature(0);
   result.chosen = best >= 0 ? best : rank_tracked(result.tracked, settings).front();
+  // The rough maps are done with: the winner is made again from vertex-accurate anchors.
+  for (int i = 0; i < static_cast<int>(maps.size()); ++i)
+    result.part_candidates.push_back({result.tracked[i].orientation, curvature[i], covered[i], scales[i],
+                                      result.tracked[i].diso, maps[i].distortion, i == result.chosen,
+                                      std::move(dense[i].forward)});
   const TrackedMap& winner = result.tracked[result.chosen];
   const TargetAnchors anchors =
       vertex_accurate_anchors(part, winner.pairs, scales[result.chosen], threads, control);

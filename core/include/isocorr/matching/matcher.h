@@ -29,13 +29,13 @@ struct MatchSummary {
 // method = part or ravac: one dense candidate of the part search (or RAVAC) and the
 // evidence it was judged by (part_matching.h).
 struct PartCandidate {
-  int tracked_index = 0;     // among the part search's tracked maps
   double orientation = 0;    // share of faces keeping handedness
   double curvature = 0;      // PartCurvature disagreement at its kappa
   double covered = 0;        // its image's area / the area the part should cover
   double scale = 1;          // kappa
   double distortion = 0;     // its grown sample map's boundary-aware distortion
   double level0_distortion = 0;  // its extremity map's scale-invariant distortion
+  bool kept = false;         // the match's map is this candidate's, finished
   std::vector<int> forward;  // before vertex-accurate anchors and polish (the files' numbering)
 };
 
@@ -60,7 +60,7 @@ struct MatchResult {
   // the part's image covers (reverse map -1 elsewhere).
   double part_scale = 0;
   double target_matched_share = 1;
-  std::vector<PartCandidate> part_candidates;  // the part search's dense candidates, if kept
+  std::vector<PartCandidate> part_candidates;  // the part search's dense candidates, in tracked order
 
   MatchSummary summary() const;
 };
