@@ -10,6 +10,7 @@
 #include "isocorr/mesh/procedural_meshes.h"
 #include "isocorr/partial/partial_cut.h"
 #include "isocorr/refinement/dense_choice.h"
+#include "isocorr/refinement/final_polish.h"
 #include "isocorr/refinement/outlier_repair.h"
 #include "isocorr/refinement/refinement.h"
 #include "isocorr/refinement/rigidity_polish.h"
@@ -356,41 +357,80 @@ TEST(RigidityPolish, RemovesNoiseFromAPartMapAtTheGivenScale) {
   EXPECT_LT(*std::max_element(map.residual.begin(), map.residual.end()), 0.01);
 }
 
-// A map that slides the surface smoothly (every image taken from a point turned about an
-// axis through the body by an angle growing from 0 to 10 degrees along the axis: a twist,
-// which stretches some rings and squeezes others) is pulled back most of the way.
-TEST(RigidityPolish, PullsBackASmoothTwist) {
-  const TriangleMesh blob = limbed_blob(4);
-  const RenumberedCopy copy = rotated_scaled_renumbered(blob, 1.0, 7);
-  const auto source = PreprocessedShape::build(blob, spectral_options());
-  const auto target = PreprocessedShape::build(copy.mesh, spectral_options());
-  std::vector<Eigen::Vector3d> points(blob.vertices.begin(), blob.vertices.end());
-  std::vector<int> ids(points.size());
-  for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<int>(i);
-  const KdTree tree(points, ids);
-  const Eigen::Vector3d axis = Eigen::Vector3d(0.3, 1, 0.2).normalized();
-  double low = 1e9, high = -1e9;
-  for (const auto& p : points) low = std::min(low, p.dot(axis)), high = std::max(high, p.dot(axis));
-  auto twisted = [&](const Eigen::Vector3d& p) {
-    const double angle = 10 * M_PI / 180 * (p.dot(axis) - low) / (high - low);
-    return Eigen::AngleAxisd(angle, axis) * p;
-  };
-  SpectralMap map;
-  for (int v = 0; v < blob.num_vertices(); ++v) map.image.push_back(copy.permutation[tree.nearest(twisted(points[v]))]);
-  std::vector<int> inverse(copy.permutation.size());
-  for (size_t v = 0; v < inverse.size(); ++v) inverse[copy.permutation[v]] = static_cast<int>(v);
-  map.reverse_image = inverse;
+// The creature and a rotated copy, with a map that slides the surface smoothly: every image
+// taken from a point turned about an axis through the body by an angle growing from 0 to
+// `degrees` along the axis (a twist, which stretches some rings and squeezes others).
+struct TwistedCopy {
+  explicit TwistedCopy(double degrees)
+      : blob(limbed_blob(4)),
+        copy(rotated_scaled_renumbered(blob, 1.0, 7)),
+        source(PreprocessedShape::build(blob, spectral_options())),
+        target(PreprocessedShape::build(copy.mesh, spectral_options())),
+        points(blob.vertices.begin(), blob.vertices.end()),
+        inverse(copy.permutation.size()) {
+    std::vector<int> ids(points.size());
+    for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<int>(i);
+    const KdTree tree(points, ids);
+    const Eigen::Vector3d axis = Eigen::Vector3d(0.3, 1, 0.2).normalized();
+    double low = 1e9, high = -1e9;
+    for (const auto& p : points) low = std::min(low, p.dot(axis)), high = std::max(high, p.dot(axis));
+    for (int v = 0; v < blob.num_vertices(); ++v) {
+      const double angle = degrees * M_PI / 180 * (points[v].dot(axis) - low) / (high - low);
+      map.image.push_back(copy.permutation[tree.nearest(Eigen::AngleAxisd(angle, axis) * points[v])]);
+    }
+    for (size_t v = 0; v < inverse.size(); ++v) inverse[copy.permutation[v]] = static_cast<int>(v);
+    map.reverse_image = inverse;
+  }
   // Mean distance on the source between a vertex and the preimage of its image.
-  auto mean_error = [&](const std::vector<int>& image) {
+  double mean_error(const std::vector<int>& image) const {
     double sum = 0;
     for (int v = 0; v < blob.num_vertices(); ++v) sum += (points[inverse[image[v]]] - points[v]).norm();
     return sum / blob.num_vertices();
-  };
-  const double before = mean_error(map.image);
+  }
+
+  TriangleMesh blob;
+  RenumberedCopy copy;
+  std::shared_ptr<const PreprocessedShape> source, target;
+  std::vector<Eigen::Vector3d> points;
+  std::vector<int> inverse;  // copy vertex -> blob vertex
+  SpectralMap map;
+};
+
+// A 10-degree twist is pulled back most of the way.
+TEST(RigidityPolish, PullsBackASmoothTwist) {
+  TwistedCopy twist(10);
+  const double before = twist.mean_error(twist.map.image);
   RigidityOptions options;
   options.threads = 2;
-  rigidity_polish(*source, *target, options, map);
-  EXPECT_LT(mean_error(map.image), 0.5 * before);
+  rigidity_polish(*twist.source, *twist.target, options, twist.map);
+  EXPECT_LT(twist.mean_error(twist.map.image), 0.5 * before);
+}
+
+// The final polish on a 20-degree twist polished briefly (so that some twist is left): the
+// longer polish pulls it back further, the curvature agrees better along it, and it is
+// kept. On the true map there is nothing to gain: the map is left as it was.
+TEST(FinalPolish, KeptWhereTheCurvatureAgreesBetterOnly) {
+  TwistedCopy twist(20);
+  RigidityOptions options;
+  options.iterations = 2;
+  options.threads = 2;
+  rigidity_polish(*twist.source, *twist.target, options, twist.map);
+  const double before = twist.mean_error(twist.map.image);
+  ASSERT_GT(before, 0);
+
+  const FinalPolishOutcome twisted = extend_rigidity_polish(*twist.source, *twist.target, 40, 2, twist.map);
+  EXPECT_TRUE(twisted.kept);
+  EXPECT_LT(twisted.curvature_after, twisted.curvature_before);
+  EXPECT_LT(twist.mean_error(twist.map.image), 0.5 * before);
+
+  SpectralMap exact;
+  exact.image = twist.copy.permutation;
+  exact.reverse_image = twist.inverse;
+  const FinalPolishOutcome untouched = extend_rigidity_polish(*twist.source, *twist.target, 40, 2, exact);
+  EXPECT_FALSE(untouched.kept);
+  EXPECT_GE(untouched.curvature_after, untouched.curvature_before);
+  EXPECT_EQ(exact.image, twist.copy.permutation);
+  EXPECT_EQ(exact.reverse_image, twist.inverse);
 }
 
 // A region sent to the far side of the body (the 3% of vertices nearest one limb's tip,

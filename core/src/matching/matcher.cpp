@@ -1,6 +1,7 @@
 #include "isocorr/matching/matcher.h"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "isocorr/matching/orientation.h"
 #include "isocorr/partial/part_matching.h"
@@ -108,6 +109,14 @@ DenseMap match_complete(const PreprocessedShape& source, const PreprocessedShape
       result.notes.push_back("outlier repair: " + std::to_string(refined.repair.moved) + " of " +
                              std::to_string(refined.repair.flagged) + " flagged vertices placed again (" +
                              std::to_string(refined.repair.anchors) + " anchors)");
+    if (settings.rigidity_final_iterations > 0) {
+      char note[160];
+      std::snprintf(note, sizeof note,
+                    "final rigidity polish (%d iterations per weight): curvature disagreement %.4f -> %.4f, %s",
+                    settings.rigidity_final_iterations, refined.final_polish.curvature_before,
+                    refined.final_polish.curvature_after, refined.final_polish.kept ? "kept" : "not kept");
+      result.notes.push_back(note);
+    }
     result.chosen = result.refined[result.refined_chosen].tracked_index;
     clock.finish("refine");
   }

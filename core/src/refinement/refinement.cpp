@@ -223,6 +223,8 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
   // the choice.
   spectral_polish(source_side, target_side, options, winner, control,
                   [&] { finish(winner, result.repair, settings.threads); });
+  result.final_polish = extend_rigidity_polish(source, target, settings.rigidity_final_iterations,
+                                               settings.threads, winner, control);
   result.candidates[result.chosen].forward = winner.image;
   result.dense.forward = std::move(winner.image);
   result.dense.forward_diso = std::move(winner.residual);

@@ -10,6 +10,7 @@
 #include "isocorr/matching/dense_map.h"
 #include "isocorr/refinement/candidate_screening.h"
 #include "isocorr/refinement/dense_choice.h"
+#include "isocorr/refinement/final_polish.h"
 #include "isocorr/refinement/outlier_repair.h"
 #include "isocorr/settings/match_settings.h"
 
@@ -23,6 +24,7 @@ struct RefinedMatch {
   int chosen = 0;  // index into candidates
   std::string why;
   OutlierRepair repair;  // what the outlier repair of the winner did (settings.outlier_repair)
+  FinalPolishOutcome final_polish;  // settings.rigidity_final_iterations
 };
 
 // `ranked`: tracked-map indices, best first by the sparse choice rule. The first
