@@ -108,6 +108,33 @@ TEST(RefineFromPairs, MapsEveryVertexOfAnIsometricCopyFromSparseTruePairs) {
   EXPECT_LT(*std::max_element(map.residual.begin(), map.residual.end()), 0.01);
 }
 
+// A further pass from a refined map's own images: a map with a fifth of its images one ring
+// off (a slide's local picture) comes back to the true map, both ways.
+TEST(RefineAgain, PullsANoisyMapOfAnIsometricCopyBackToTheTruth) {
+  const TriangleMesh blob = limbed_blob(4);
+  const RenumberedCopy copy = rotated_scaled_renumbered(blob, 1.7, 5);
+  MatchSettings settings;
+  settings.preprocess = spectral_options();
+  settings.threads = 2;
+  settings.zoomout.k_start = 10;
+  settings.zoomout.k_end = 60;
+  const auto source = PreprocessedShape::build(blob, settings.preprocess);
+  const auto target = PreprocessedShape::build(copy.mesh, settings.preprocess);
+  const MeshTopology& target_topology = target->geodesics().topology();
+  SpectralMap noisy;
+  noisy.image = copy.permutation;
+  std::mt19937 random(13);
+  for (int& w : noisy.image)
+    if (random() % 5 == 0) w = *target_topology.neighbours_begin(w);
+  ASSERT_LT(exact_and_near(noisy.image, copy.permutation, target_topology).first, 0.85);
+  std::vector<int> inverse(copy.permutation.size());
+  for (size_t v = 0; v < inverse.size(); ++v) inverse[copy.permutation[v]] = static_cast<int>(v);
+
+  const SpectralMap map = refine_again(*source, *target, noisy, settings);
+  EXPECT_GE(exact_and_near(map.image, copy.permutation, target_topology).first, 0.99);
+  EXPECT_GE(exact_and_near(map.reverse_image, inverse, source->geodesics().topology()).first, 0.99);
+}
+
 // An ellipsoid with three different axes has exactly one intrinsic mirror per axis plane;
 // a map started from the x-mirror stays a mirror under refinement (it is an exact isometry),
 // so the choice must drop it by its orientation, not by distortion.

@@ -109,6 +109,9 @@ DenseMap match_complete(const PreprocessedShape& source, const PreprocessedShape
       result.notes.push_back("outlier repair: " + std::to_string(refined.repair.moved) + " of " +
                              std::to_string(refined.repair.flagged) + " flagged vertices placed again (" +
                              std::to_string(refined.repair.anchors) + " anchors)");
+    if (settings.refine_passes > 0)
+      result.notes.push_back("the chosen map refined again from itself " + std::to_string(settings.refine_passes) +
+                             (settings.refine_passes == 1 ? " time" : " times"));
     if (settings.rigidity_final_iterations > 0) {
       char note[160];
       std::snprintf(note, sizeof note,

@@ -24,7 +24,7 @@ struct RefinedMatch {
   int chosen = 0;  // index into candidates
   std::string why;
   OutlierRepair repair;  // what the outlier repair of the winner did (settings.outlier_repair)
-  FinalPolishOutcome final_polish;  // settings.rigidity_final_iterations
+  FinalPolishOutcome final_polish;  // settings.rigidity_final_iterations (after settings.refine_passes)
 };
 
 // `ranked`: tracked-map indices, best first by the sparse choice rule. The first
@@ -50,5 +50,14 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
 SpectralMap refine_from_pairs(const PreprocessedShape& source, const PreprocessedShape& target,
                               const std::vector<std::pair<int, int>>& pairs, const MatchSettings& settings,
                               const JobControl& control = {});
+
+// A refined map refined once more, from its own images of the source's spectral samples:
+// refine_from_pairs with ZoomOut started at half of settings.zoomout.k_end instead of
+// k_start. A tracked map is too coarse to start that high (it ends mirrored), so the first
+// refinement starts low, and its low-frequency stage leaves the truth by about a percent of
+// the diameter on scans in stretched poses; a second refinement from the first one's right
+// map can skip that stage. settings.refine_passes of these follow the chosen map's polish.
+SpectralMap refine_again(const PreprocessedShape& source, const PreprocessedShape& target, const SpectralMap& map,
+                         const MatchSettings& settings, const JobControl& control = {});
 
 }  // namespace isocorr
