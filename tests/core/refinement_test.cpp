@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <random>
 
 #include <Eigen/Geometry>
@@ -79,31 +80,49 @@ TEST(ZoomOut, RecoversAPermutedRotatedCopyFromANoisyStart) {
   }
 }
 
+// A limbed blob and a rotated, scaled, renumbered copy, with the settings both refinements
+// below run at (a small basis: the blob is small).
+struct IsometricCopy {
+  TriangleMesh blob = limbed_blob(4);
+  RenumberedCopy copy = rotated_scaled_renumbered(blob, 1.7, 5);
+  MatchSettings settings = small_basis_settings();
+  std::shared_ptr<const PreprocessedShape> source = PreprocessedShape::build(blob, settings.preprocess);
+  std::shared_ptr<const PreprocessedShape> target = PreprocessedShape::build(copy.mesh, settings.preprocess);
+  std::vector<int> inverse = inverse_of(copy.permutation);
+
+  static MatchSettings small_basis_settings() {
+    MatchSettings settings;
+    settings.preprocess = spectral_options();
+    settings.threads = 2;
+    settings.zoomout.k_start = 10;
+    settings.zoomout.k_end = 60;
+    return settings;
+  }
+  static std::vector<int> inverse_of(const std::vector<int>& permutation) {
+    std::vector<int> inverse(permutation.size());
+    for (size_t v = 0; v < inverse.size(); ++v) inverse[permutation[v]] = static_cast<int>(v);
+    return inverse;
+  }
+  // At least 99% of the vertices of each shape mapped exactly, both ways.
+  void expect_true_map(const SpectralMap& map) const {
+    EXPECT_GE(exact_and_near(map.image, copy.permutation, target->geodesics().topology()).first, 0.99);
+    EXPECT_GE(exact_and_near(map.reverse_image, inverse, source->geodesics().topology()).first, 0.99);
+  }
+};
+
 // The refinement alone, from a few hundred true pairs of a rotated, scaled, renumbered copy
 // (what isocorr-bench --from-truth runs): every vertex comes back to its true image, both ways.
 TEST(RefineFromPairs, MapsEveryVertexOfAnIsometricCopyFromSparseTruePairs) {
-  const TriangleMesh blob = limbed_blob(4);
-  const RenumberedCopy copy = rotated_scaled_renumbered(blob, 1.7, 5);
-  MatchSettings settings;
-  settings.preprocess = spectral_options();
-  settings.threads = 2;
-  settings.zoomout.k_start = 10;
-  settings.zoomout.k_end = 60;
-  const auto source = PreprocessedShape::build(blob, settings.preprocess);
-  const auto target = PreprocessedShape::build(copy.mesh, settings.preprocess);
+  const IsometricCopy pair;
   std::mt19937 random(7);
-  std::uniform_int_distribution<int> any_vertex(0, blob.num_vertices() - 1);
+  std::uniform_int_distribution<int> any_vertex(0, pair.blob.num_vertices() - 1);
   std::vector<std::pair<int, int>> pairs;
   for (int i = 0; i < 200; ++i) {
     const int v = any_vertex(random);
-    pairs.emplace_back(v, copy.permutation[v]);
+    pairs.emplace_back(v, pair.copy.permutation[v]);
   }
-  std::vector<int> inverse(copy.permutation.size());
-  for (size_t v = 0; v < inverse.size(); ++v) inverse[copy.permutation[v]] = static_cast<int>(v);
-
-  const SpectralMap map = refine_from_pairs(*source, *target, pairs, settings);
-  EXPECT_GE(exact_and_near(map.image, copy.permutation, target->geodesics().topology()).first, 0.99);
-  EXPECT_GE(exact_and_near(map.reverse_image, inverse, source->geodesics().topology()).first, 0.99);
+  const SpectralMap map = refine_from_pairs(*pair.source, *pair.target, pairs, pair.settings);
+  pair.expect_true_map(map);
   ASSERT_EQ(map.residual.size(), map.image.size());
   EXPECT_LT(*std::max_element(map.residual.begin(), map.residual.end()), 0.01);
 }
@@ -111,28 +130,15 @@ TEST(RefineFromPairs, MapsEveryVertexOfAnIsometricCopyFromSparseTruePairs) {
 // A further pass from a refined map's own images: a map with a fifth of its images one ring
 // off (a slide's local picture) comes back to the true map, both ways.
 TEST(RefineAgain, PullsANoisyMapOfAnIsometricCopyBackToTheTruth) {
-  const TriangleMesh blob = limbed_blob(4);
-  const RenumberedCopy copy = rotated_scaled_renumbered(blob, 1.7, 5);
-  MatchSettings settings;
-  settings.preprocess = spectral_options();
-  settings.threads = 2;
-  settings.zoomout.k_start = 10;
-  settings.zoomout.k_end = 60;
-  const auto source = PreprocessedShape::build(blob, settings.preprocess);
-  const auto target = PreprocessedShape::build(copy.mesh, settings.preprocess);
-  const MeshTopology& target_topology = target->geodesics().topology();
+  const IsometricCopy pair;
+  const MeshTopology& target_topology = pair.target->geodesics().topology();
   SpectralMap noisy;
-  noisy.image = copy.permutation;
+  noisy.image = pair.copy.permutation;
   std::mt19937 random(13);
   for (int& w : noisy.image)
     if (random() % 5 == 0) w = *target_topology.neighbours_begin(w);
-  ASSERT_LT(exact_and_near(noisy.image, copy.permutation, target_topology).first, 0.85);
-  std::vector<int> inverse(copy.permutation.size());
-  for (size_t v = 0; v < inverse.size(); ++v) inverse[copy.permutation[v]] = static_cast<int>(v);
-
-  const SpectralMap map = refine_again(*source, *target, noisy, settings);
-  EXPECT_GE(exact_and_near(map.image, copy.permutation, target_topology).first, 0.99);
-  EXPECT_GE(exact_and_near(map.reverse_image, inverse, source->geodesics().topology()).first, 0.99);
+  ASSERT_LT(exact_and_near(noisy.image, pair.copy.permutation, target_topology).first, 0.85);
+  pair.expect_true_map(refine_again(*pair.source, *pair.target, noisy, pair.settings));
 }
 
 // An ellipsoid with three different axes has exactly one intrinsic mirror per axis plane;
