@@ -83,25 +83,25 @@ void spectral_polish(const SpectralSide& source_side, const SpectralSide& target
   if (static_cast<int>(map.c.rows()) != basis_before) finish();
 }
 
-}  // namespace
-
-SpectralMap refine_from_pairs(const PreprocessedShape& source, const PreprocessedShape& target,
-                              const std::vector<std::pair<int, int>>& pairs, const MatchSettings& settings,
-                              const JobControl& control) {
-  require_spectral_bases(source, target);
+// refine_from_pairs with the pair's rigidity system already built (its three sparse
+// factors are the same for every refinement of the pair).
+SpectralMap refine_from_pairs_with(const PreprocessedShape& source, const PreprocessedShape& target,
+                                   const RigidityPolish& rigidity, const std::vector<std::pair<int, int>>& pairs,
+                                   const MatchSettings& settings, const JobControl& control) {
   ZoomOutOptions options = settings.zoomout;
   options.threads = settings.threads;
   const SpectralSide source_side = spectral_side(source), target_side = spectral_side(target);
   SpectralMap map = zoomout(source_side, target_side, pairs, options, control);
-  const RigidityPolish rigidity(source, target, rigidity_options(settings));
   auto finish = [&] { finish_map(source, target, rigidity, settings, map, control, settings.threads); };
   finish();
   spectral_polish(source_side, target_side, options, map, control, finish);
   return map;
 }
 
-SpectralMap refine_again(const PreprocessedShape& source, const PreprocessedShape& target, const SpectralMap& map,
-                         const MatchSettings& settings, const JobControl& control) {
+// refine_again with the pair's rigidity system already built.
+SpectralMap refine_again_with(const PreprocessedShape& source, const PreprocessedShape& target,
+                              const RigidityPolish& rigidity, const SpectralMap& map, const MatchSettings& settings,
+                              const JobControl& control) {
   std::vector<std::pair<int, int>> pairs;
   for (const int v : source.spectral_samples()) pairs.emplace_back(v, map.image[v]);
   // The map is right everywhere already: it needs no low-frequency stage to find its way,
@@ -109,7 +109,24 @@ SpectralMap refine_again(const PreprocessedShape& source, const PreprocessedShap
   // (SCAPE's first 10 pairs: 0.0082 starting at 50 of 100 functions, 0.0083 at 100).
   MatchSettings again = settings;
   again.zoomout.k_start = std::max(1, settings.zoomout.k_end / 2);
-  return refine_from_pairs(source, target, pairs, again, control);
+  return refine_from_pairs_with(source, target, rigidity, pairs, again, control);
+}
+
+}  // namespace
+
+SpectralMap refine_from_pairs(const PreprocessedShape& source, const PreprocessedShape& target,
+                              const std::vector<std::pair<int, int>>& pairs, const MatchSettings& settings,
+                              const JobControl& control) {
+  require_spectral_bases(source, target);
+  const RigidityPolish rigidity(source, target, rigidity_options(settings));
+  return refine_from_pairs_with(source, target, rigidity, pairs, settings, control);
+}
+
+SpectralMap refine_again(const PreprocessedShape& source, const PreprocessedShape& target, const SpectralMap& map,
+                         const MatchSettings& settings, const JobControl& control) {
+  require_spectral_bases(source, target);
+  const RigidityPolish rigidity(source, target, rigidity_options(settings));
+  return refine_again_with(source, target, rigidity, map, settings, control);
 }
 
 RefinedMatch refine_and_choose(const PreprocessedShape& source, const PreprocessedShape& target,
@@ -235,7 +252,8 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
   // the choice.
   spectral_polish(source_side, target_side, options, winner, control,
                   [&] { finish(winner, result.repair, settings.threads); });
-  for (int pass = 0; pass < settings.refine_passes; ++pass) winner = refine_again(source, target, winner, settings, control);
+  for (int pass = 0; pass < settings.refine_passes; ++pass)
+    winner = refine_again_with(source, target, rigidity, winner, settings, control);
   result.final_polish = extend_rigidity_polish(source, target, settings.rigidity_final_iterations,
                                                settings.threads, winner, control);
   result.candidates[result.chosen].forward = winner.image;
