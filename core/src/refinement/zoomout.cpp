@@ -243,22 +243,17 @@ SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
 
 void zoomout_polish(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options,
                     SpectralMap& map, const JobControl& control) {
-  const RowMatrix& phi_s = *source.basis;
-  const RowMatrix& phi_t = *target.basis;
   const int k_end = within_bases(options.polish_k_end, source, target);
-  int k = static_cast<int>(map.c.rows());
+  const int k = static_cast<int>(map.c.rows());
   if (k >= k_end) return;
-  const int threads = resolve_thread_count(options.threads);
-  const FunctionalMapFit fit = fit_settings(source, target, options);
-  RowMatrix target_rows, pulled;
-  while (k < k_end) {
-    control.check_cancelled();
-    k = std::min(k + std::max(1, options.polish_k_step), k_end);
-    target_rows = phi_t.leftCols(k);
-    pulled = refit_on_every_vertex(phi_s.leftCols(k), target_rows, fit, threads, *target.topology, map);
-  }
-  control.check_cancelled();
-  recover_reverse(source, target, pulled, target_rows, threads, map);
+  // C is fitted afresh at k from the map's own images of the samples (map.c belongs to the
+  // map before it was finished).
+  SampleMap sampled;
+  for (const int v : *source.samples) sampled.images.push_back(map.image[v]);
+  ZoomOutOptions growth = options;
+  growth.k_step = options.polish_k_step;
+  grow_on_samples(source, target, k, k_end, growth, sampled, control);
+  map = zoomout_dense(source, target, sampled, options, control);
 }
 
 }  // namespace isocorr

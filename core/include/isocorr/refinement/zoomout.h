@@ -25,17 +25,17 @@ struct ZoomOutOptions {
   int k_end = 100;   // last basis size (at most the basis the shapes hold)
   int k_step = 5;    // growth per iteration (the paper: 1-5)
   int dense_iterations = 1;  // refits of C on every vertex after the sampled iterations
-  // zoomout_polish grows the chosen map's basis on every vertex up to polish_k_end, by
-  // polish_k_step. Starting from a finished map (right at 100 functions), the higher
-  // frequencies sharpen it: every pair of each set, 100 -> 200 functions, D_grd SCAPE
-  // 0.0139 -> 0.0128, FAUST 5k 0.0121 -> 0.0116, TOSCA 5k 0.0166 -> 0.0153, TOSCA hi-res
-  // 0.0148 -> 0.0127 (michael 0.0164 -> 0.0094). Finer steps lose a little less on TOSCA
-  // 5k (0.0146 / 0.0149 / 0.0153 in steps of 5 / 10 / 25; faust_reg6890 0.0056 at 5,
-  // 0.0057 at 25) but each refit on every vertex costs O(V k^2): michael, 52K vertices,
-  // 48 s per pair in steps of 25, 53 s in steps of 10 (measured with Spectra's slower
-  // eigensolver; 28 s in steps of 25 now).
+  // zoomout_polish continues the chosen, finished map (right at k_end functions) up to
+  // polish_k_end: the higher frequencies sharpen it. Grown on every vertex in steps of 25,
+  // every pair of each set, 100 -> 200 functions: D_grd SCAPE 0.0139 -> 0.0128, FAUST 5k
+  // 0.0121 -> 0.0116, TOSCA 5k 0.0166 -> 0.0153, TOSCA hi-res 0.0148 -> 0.0127 (michael
+  // 0.0164 -> 0.0094). Finer steps lost less (TOSCA 5k 0.0146 in steps of 5) but cost
+  // O(V k^2) per step on every vertex (michael 48 s per pair in steps of 25, 53 s in steps
+  // of 10, with an older eigensolver). On the samples, ZoomOut's own way, steps of 5 cost
+  // what steps of 25 on every vertex cost at 52K vertices and lose less: SCAPE's first 10
+  // pairs 0.0091 -> 0.0086, TOSCA 5k 0.0154 -> 0.0146, michael 0.0094 -> 0.0077.
   int polish_k_end = 200;
-  int polish_k_step = 25;
+  int polish_k_step = 5;
   double commutativity = 0;  // weight of the Laplacian commutativity term in each fit
                              // (functional_map_fit.h). Off by default: at 10 it lowers
                              // the error (SCAPE D_grd 0.0099 -> 0.0093, TOSCA 5k 0.0183 ->
@@ -95,10 +95,10 @@ SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
                     const std::vector<std::pair<int, int>>& start, const ZoomOutOptions& options,
                     const JobControl& control = {});
 
-// Continues a refined map on every vertex: the basis grows from the map's C by
-// options.polish_k_step up to options.polish_k_end (at most the bases' size), each step
-// refitting C and moving every image by descent; then the reverse map is recomputed from the
-// last C. Meant for the chosen candidate only: sharper high frequencies, at O(V k^2) per step.
+// Continues a refined (finished) map to a larger basis: ZoomOut's sampled iterations from
+// the map's images of the source samples, the basis grown from the map's size by
+// options.polish_k_step up to options.polish_k_end (at most the bases' size), then
+// zoomout_dense at that size (forward and reverse maps from the last C).
 void zoomout_polish(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options,
                     SpectralMap& map, const JobControl& control = {});
 
