@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/QR>
 #include <Eigen/SVD>
 
 #include "isocorr/mesh/procedural_meshes.h"
@@ -43,6 +44,27 @@ TEST(FunctionalMapFit, CommutativityDeterminesAnUnderdeterminedFit) {
   fit.commutativity = 10;
   const Eigen::MatrixXf commuting = fit_functional_map(rows, rows, fit);
   EXPECT_LT((commuting - identity).norm(), 0.05);
+}
+
+// Pairs that carry almost nothing of one basis function leave the least-squares C nearly
+// singular (here R diag(1e-7, 1, ..., 1) R^T, R a rotation); its nearest orthogonal matrix
+// is still the identity. The fast polar factor squares C's condition number, so such a C must go
+// through the SVD.
+TEST(FunctionalMapFit, ANearlySingularFitStillGivesTheNearestOrthogonalMap) {
+  constexpr int kRows = 2000, kColumns = 12;
+  std::mt19937 random(11);
+  std::normal_distribution<float> normal;
+  SpectralRows source(kRows, kColumns);
+  for (int i = 0; i < kRows; ++i)
+    for (int j = 0; j < kColumns; ++j) source(i, j) = normal(random);
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(Eigen::MatrixXd::Random(kColumns, kColumns));
+  const Eigen::MatrixXd rotation = qr.householderQ();
+  Eigen::VectorXd scales = Eigen::VectorXd::Ones(kColumns);
+  scales(0) = 1e-7;
+  const SpectralRows target =
+      source * (rotation * scales.asDiagonal() * rotation.transpose()).cast<float>();
+  const Eigen::MatrixXf c = fit_functional_map(source, target);
+  EXPECT_LT((c - Eigen::MatrixXf::Identity(kColumns, kColumns)).norm(), 1e-4);
 }
 
 TEST(FunctionalMapFit, WeightDoesNotDependOnTheEigenvaluesScale) {

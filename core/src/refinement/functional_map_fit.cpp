@@ -4,6 +4,7 @@
 #include <vector>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 
 #include "isocorr/util/parallel.h"
@@ -14,6 +15,25 @@ namespace {
 // Rows per chunk of the normal equations: fits on samples (a few thousand rows) are one
 // chunk, summed exactly as a single product.
 constexpr Eigen::Index kFitChunkRows = 16384;
+
+// The nearest orthogonal matrix to c: its polar factor U V^T = c (c^T c)^(-1/2), here
+// from the symmetric eigendecomposition of c^T c, which takes a third of the time of an
+// SVD at k = 150 (2.2 against 6.4 ms; the polish makes 21 fits at k = 100-200). Squaring
+// c squares its condition number, so a nearly singular c (a start with too few distinct
+// pairs) goes through the SVD.
+Eigen::MatrixXd nearest_orthogonal(const Eigen::MatrixXd& c) {
+  constexpr double kWellConditioned = 1e-8;  // least over largest eigenvalue of c^T c
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(c.transpose() * c);
+  if (eigen.info() == Eigen::Success) {
+    const Eigen::VectorXd& values = eigen.eigenvalues();  // ascending
+    if (values(0) > kWellConditioned * values(values.size() - 1)) {
+      const Eigen::MatrixXd& vectors = eigen.eigenvectors();
+      return c * (vectors * values.cwiseSqrt().cwiseInverse().asDiagonal() * vectors.transpose());
+    }
+  }
+  const Eigen::BDCSVD<Eigen::MatrixXd> svd(c, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  return svd.matrixU() * svd.matrixV().transpose();
+}
 
 }  // namespace
 
@@ -68,8 +88,7 @@ Eigen::MatrixXf fit_functional_map(const SpectralRows& a, const SpectralRows& b,
   } else {
     c = normal.llt().solve(rhs);
   }
-  const Eigen::BDCSVD<Eigen::MatrixXd> svd(c, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  return (svd.matrixU() * svd.matrixV().transpose()).cast<float>();
+  return nearest_orthogonal(c).cast<float>();
 }
 
 }  // namespace isocorr
