@@ -48,8 +48,8 @@ TEST(FunctionalMapFit, CommutativityDeterminesAnUnderdeterminedFit) {
 
 // Pairs that carry almost nothing of one basis function leave the least-squares C nearly
 // singular (here R diag(1e-7, 1, ..., 1) R^T, R a rotation); its nearest orthogonal matrix
-// is still the identity. The fast polar factor squares C's condition number, so such a C must go
-// through the SVD.
+// is still the identity. The fast polar factor squares C's condition number, so such a C
+// must go through the SVD.
 TEST(FunctionalMapFit, ANearlySingularFitStillGivesTheNearestOrthogonalMap) {
   constexpr int kRows = 2000, kColumns = 12;
   std::mt19937 random(11);
@@ -57,7 +57,10 @@ TEST(FunctionalMapFit, ANearlySingularFitStillGivesTheNearestOrthogonalMap) {
   SpectralRows source(kRows, kColumns);
   for (int i = 0; i < kRows; ++i)
     for (int j = 0; j < kColumns; ++j) source(i, j) = normal(random);
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(Eigen::MatrixXd::Random(kColumns, kColumns));
+  Eigen::MatrixXd any(kColumns, kColumns);
+  for (int i = 0; i < kColumns; ++i)
+    for (int j = 0; j < kColumns; ++j) any(i, j) = normal(random);
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(any);
   const Eigen::MatrixXd rotation = qr.householderQ();
   Eigen::VectorXd scales = Eigen::VectorXd::Ones(kColumns);
   scales(0) = 1e-7;

@@ -162,9 +162,9 @@ void grow_on_samples(const SpectralSide& source, const SpectralSide& target, int
   const FunctionalMapFit fit = fit_settings(source, target, options);
   for (int k = k_first;; k = std::min(k + std::max(1, options.k_step), k_end)) {
     control.check_cancelled();
-    if (map.c.rows() != k)
-      map.c = fit_functional_map(gather_rows(phi_s, source_samples, k), gather_rows(phi_t, map.images, k), fit);
-    const RowMatrix queries = gather_rows(phi_s, source_samples, k) * map.c;
+    const RowMatrix source_rows = gather_rows(phi_s, source_samples, k);
+    if (map.c.rows() != k) map.c = fit_functional_map(source_rows, gather_rows(phi_t, map.images, k), fit);
+    const RowMatrix queries = source_rows * map.c;
     const std::vector<int> nearest = nearest_rows(queries, gather_rows(phi_t, target_samples, k), threads);
     parallel_for(static_cast<int>(map.images.size()), threads, [&](int i, int) {
       map.images[i] = descend_in_embedding(queries.row(i).data(), phi_t, k, *target.topology, target_samples[nearest[i]]);
