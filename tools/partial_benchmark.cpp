@@ -131,9 +131,9 @@ int main(int argc, char** argv) {
               const PartCandidate& pc = result.part_candidates[i];
               const GroundTruthScore cs =
                   score_against_ground_truth(target_mesh, geodesics, diameter, pc.forward, part_truth, options);
-              std::printf("   %c candidate %2zu: orientation %.2f curvature %.4f covered %.2f kappa %.3f distortion %.4f "
+              std::printf("   %c%c candidate %2zu: orientation %.2f curvature %.4f covered %.2f kappa %.3f distortion %.4f "
                           "extremities %.4f | D_grd %.4f mirrored %.2f\n",
-                          pc.kept ? '*' : ' ', i, pc.orientation,
+                          pc.kept ? '*' : ' ', pc.finalist ? 'f' : ' ', i, pc.orientation,
                           pc.curvature, pc.covered, pc.scale, pc.distortion, pc.level0_distortion, cs.mean_error,
                           cs.mirrored_fraction);
             }

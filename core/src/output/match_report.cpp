@@ -74,7 +74,8 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
                             {"covered_share", c.covered},
                             {"scale", c.scale},
                             {"distortion", c.distortion},
-                            {"extremity_distortion", c.level0_distortion}});
+                            {"extremity_distortion", c.level0_distortion},
+                            {"finalist", c.finalist}});
     report["part"] = {{"scale", result.part_scale},
                       {"target_matched_share", result.target_matched_share},
                       {"target_vertices_matched", matched},

@@ -43,6 +43,14 @@ constexpr int kPartEvidenceSources = 16;
 // the part search's picks against ground truth): right maps cover 0.89-1.10 of that, wrong
 // ones 0.54-0.78 (they pile a half body onto one side).
 constexpr double kMinCoveredShare = 0.8;
+// The same after the rigidity polish, which spreads a right map over the part's image and
+// leaves a fold folded. Measured on the benchmark's cuts (six finalists each): right maps
+// cover 0.72-1.01, folding ones 0.35-0.63.
+constexpr double kMinCoveredShareFinished = 0.6;
+// Candidates finished and compared: the least curvature disagreement among the rough
+// upright maps. On the benchmark's 22 cuts with a right candidate, the first right one was
+// the rough maps' best on 16, among their best 6 on 20 (SCAPE 000 -> 003's plane cut: 23rd).
+constexpr int kFinalists = 6;
 
 // Step 1: every injective map of the source's points to the first `target_count` target
 // samples, by scale-invariant distortion; maps with kappa below `min_scale` are dropped.
@@ -416,6 +424,34 @@ double covered_share(const PreprocessedShape& source, const PreprocessedShape& t
   return expected_share > 0 ? matched_area_share(target_vertex_areas, map.reverse) / expected_share : 0;
 }
 
+// The `count` upright maps (orientation at least `threshold`) of least curvature
+// disagreement; when none is upright, the `count` of least curvature.
+std::vector<int> part_finalists(const std::vector<TrackedMap>& tracked, const std::vector<double>& curvature,
+                                double threshold, int count) {
+  std::vector<int> order(tracked.size());
+  std::iota(order.begin(), order.end(), 0);
+  auto upright = [&](int i) { return tracked[i].orientation >= threshold; };
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return upright(a) != upright(b) ? upright(a) : curvature[a] < curvature[b];
+  });
+  const bool any_upright = !order.empty() && upright(order.front());
+  std::vector<int> finalists;
+  for (int i : order)
+    if (static_cast<int>(finalists.size()) < count && (upright(i) || !any_upright)) finalists.push_back(i);
+  return finalists;
+}
+
+// The complete pipeline's last stage on a part's forward map, at the part's scale kappa.
+void polish_part_map(const PreprocessedShape& source, const PreprocessedShape& target, RigidityOptions options,
+                     double scale, int threads, DenseMap& map, const JobControl& control) {
+  SpectralMap polished;  // no reverse_image: a part's reverse map is made from the forward one
+  polished.image = std::move(map.forward);
+  options.threads = threads;
+  RigidityPolish(source, target, options, 1.0 / scale).apply(polished, control);
+  map.forward = std::move(polished.image);
+  map.forward_diso = std::move(polished.residual);
+}
+
 }  // namespace
 
 DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& target, const MatchSettings& settings,
@@ -476,29 +512,49 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
     curvature[i] = part_curvature.disagreement(dense[i].forward, scales[i]);
     covered[i] = covered_share(source, target, target_vertex_areas, scales[i], dense[i]);
   });
-  // The winner: least curvature disagreement among the maps that keep handedness. The
+  // The finalists, finished, are measured again and compete: a rough map's curvature
+  // carries a sample spacing's worth of noise. Without the polish every candidate competes.
+  const bool finish = settings.refine != RefineMethod::kNone && settings.rigidity.iterations > 0;
+  const std::vector<int> finalists = part_finalists(result.tracked, curvature, settings.orientation_threshold,
+                                                    finish ? kFinalists : static_cast<int>(maps.size()));
+  if (finish)
+    parallel_for(static_cast<int>(finalists.size()), threads, [&](int k, int) {
+      const int i = finalists[k];
+      polish_part_map(source, target, settings.rigidity, scales[i], 1, dense[i], control);  // side by side
+      result.tracked[i].orientation = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
+                                                                  target.normals(), dense[i].forward);
+      curvature[i] = part_curvature.disagreement(dense[i].forward, scales[i]);
+      covered[i] = covered_share(source, target, target_vertex_areas, scales[i], dense[i]);
+    });
+  // The winner: least curvature disagreement among the finalists that keep handedness. The
   // sample distortion the candidates were grown by cannot judge them (a map grown from wrong
   // extremities trims them away, and one-sided terms near a cut forgive it); curvature is
   // evidence none of them was fitted to. Measured on cuts (isocorr-bench-partial, 16
   // candidates): right on 12 of 36 cuts, against 7 by orientation then sample distortion.
+  // Finishing 6 finalists first (64 candidates): 25 -> 26 of 36 (FAUST 000 -> 004's 54%
+  // ball: its right rough map covered 0.75 and lost to a turned body at kMinCoveredShare);
+  // on the cuts of faust_reg6890 and faust_remeshed_lps 23 of 24 either way.
   // Maps that fold the part onto much less than its own area go only when no other is
-  // upright (kMinCoveredShare): faust 000 -> 004's 70% ball, D_grd 0.079 -> 0.021.
-  auto least_curvature = [&](double min_covered) {
+  // upright (min_covered).
+  const double min_covered = finish ? kMinCoveredShareFinished : kMinCoveredShare;
+  auto least_curvature = [&](double covered_at_least) {
     int best = -1;
-    for (int i = 0; i < static_cast<int>(maps.size()); ++i)
-      if (result.tracked[i].orientation >= settings.orientation_threshold && covered[i] >= min_covered &&
+    for (int i : finalists)
+      if (result.tracked[i].orientation >= settings.orientation_threshold && covered[i] >= covered_at_least &&
           (best < 0 || curvature[i] < curvature[best]))
         best = i;
     return best;
   };
-  int best = least_curvature(kMinCoveredShare);
+  int best = least_curvature(min_covered);
   if (best < 0) best = least_curvature(0);
   result.chosen = best >= 0 ? best : rank_tracked(result.tracked, settings).front();
-  // The rough maps are done with: the winner is made again from vertex-accurate anchors.
-  for (int i = 0; i < static_cast<int>(maps.size()); ++i)
+  // The candidates' maps are done with: the winner is made again from vertex-accurate anchors.
+  for (int i = 0; i < static_cast<int>(maps.size()); ++i) {
+    const bool finalist = finish && std::find(finalists.begin(), finalists.end(), i) != finalists.end();
     result.part_candidates.push_back({result.tracked[i].orientation, curvature[i], covered[i], scales[i],
-                                      result.tracked[i].diso, maps[i].distortion, i == result.chosen,
+                                      result.tracked[i].diso, maps[i].distortion, finalist, i == result.chosen,
                                       std::move(dense[i].forward)});
+  }
   const TrackedMap& winner = result.tracked[result.chosen];
   const TargetAnchors anchors =
       vertex_accurate_anchors(part, winner.pairs, scales[result.chosen], threads, control);
@@ -509,15 +565,7 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   // takes out (isocorr-bench-partial: Kim error of right maps 0.052 -> 0.050, and a map
   // compared against the complete pipeline's polished one is compared like for like:
   // faust 002 -> 007's 46% ball now keeps the part search's right map).
-  if (settings.refine != RefineMethod::kNone && settings.rigidity.iterations > 0) {
-    SpectralMap polished;  // no reverse_image: the part's reverse map is made below
-    polished.image = std::move(chosen.forward);
-    RigidityOptions options = settings.rigidity;
-    options.threads = threads;
-    RigidityPolish(source, target, options, 1.0 / scales[result.chosen]).apply(polished, control);
-    chosen.forward = std::move(polished.image);
-    chosen.forward_diso = std::move(polished.residual);
-  }
+  if (finish) polish_part_map(source, target, settings.rigidity, scales[result.chosen], threads, chosen, control);
   add_part_reverse_map(source, target, scales[result.chosen], chosen);
   clock.finish("part-dense");
   result.part_scale = scales[result.chosen];

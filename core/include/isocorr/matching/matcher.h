@@ -35,8 +35,9 @@ struct PartCandidate {
   double scale = 1;          // kappa
   double distortion = 0;     // its grown sample map's boundary-aware distortion
   double level0_distortion = 0;  // its extremity map's scale-invariant distortion
+  bool finalist = false;     // polished and measured again; only finalists compete
   bool kept = false;         // the match's map is this candidate's, finished
-  std::vector<int> forward;  // before vertex-accurate anchors and polish (the files' numbering)
+  std::vector<int> forward;  // before vertex-accurate anchors (a finalist's polished; the files' numbering)
 };
 
 struct MatchResult {
