@@ -101,6 +101,12 @@ TEST_F(MatchCommand, CutPartMatchesWithPartialAndItsReverseMapMarksTheRest) {
   // The part search's candidates are listed with the evidence it weighed.
   ASSERT_FALSE(json["part"]["search_candidates"].empty());
   EXPECT_TRUE(json["part"]["search_candidates"][0].contains("curvature_disagreement"));
+  // Some of them, polished before the choice, are marked as its finalists.
+  long finalists = 0;
+  for (const nlohmann::json& candidate : json["part"]["search_candidates"])
+    finalists += candidate.at("finalist").get<bool>();
+  EXPECT_GE(finalists, 1);
+  EXPECT_LE(finalists, 6);
 
   const ShellRun eval = run_shell(cli_ + " eval " + map.string() + " --dataset " + dir_->string() + " --source meshes/part.ply --target meshes/creature_moved.ply --gt-kind index_map:gt/part_to_moved.txt --json");
   ASSERT_EQ(eval.exit_code, 0) << eval.output;
