@@ -504,13 +504,17 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   std::vector<double> covered(maps.size());
   const std::vector<double> target_vertex_areas = vertex_areas(target.mesh());
   const PartCurvature part_curvature(part, scales, threads);
-  parallel_for(static_cast<int>(maps.size()), threads, [&](int i, int) {
-    dense[i] = dense_part_map(part, result.tracked[i], sample_anchors(target, result.tracked[i].pairs),
-                              scales[i], visit_order(maps[i]), control);
+  // The evidence the choice weighs, of candidate i's current dense map.
+  auto measure = [&](int i) {
     result.tracked[i].orientation = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
                                                                 target.normals(), dense[i].forward);
     curvature[i] = part_curvature.disagreement(dense[i].forward, scales[i]);
     covered[i] = covered_share(source, target, target_vertex_areas, scales[i], dense[i]);
+  };
+  parallel_for(static_cast<int>(maps.size()), threads, [&](int i, int) {
+    dense[i] = dense_part_map(part, result.tracked[i], sample_anchors(target, result.tracked[i].pairs),
+                              scales[i], visit_order(maps[i]), control);
+    measure(i);
   });
   // The finalists, finished, are measured again and compete: a rough map's curvature
   // carries a sample spacing's worth of noise. Without the polish every candidate competes.
@@ -527,10 +531,7 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
     parallel_for(static_cast<int>(finalists.size()), threads, [&](int k, int) {
       const int i = finalists[k];
       polish_part_map(source, target, finalist_polish, scales[i], 1, dense[i], control);  // side by side
-      result.tracked[i].orientation = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
-                                                                  target.normals(), dense[i].forward);
-      curvature[i] = part_curvature.disagreement(dense[i].forward, scales[i]);
-      covered[i] = covered_share(source, target, target_vertex_areas, scales[i], dense[i]);
+      measure(i);
     });
   // The winner: least curvature disagreement among the finalists that keep handedness. The
   // sample distortion the candidates were grown by cannot judge them (a map grown from wrong
