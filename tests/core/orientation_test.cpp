@@ -66,6 +66,23 @@ TEST_F(HandednessOnBlob, GuardAcceptsTrueImagesAndRejectsMirrorImages) {
   EXPECT_LT(accepted_share(*mirror_), 0.05);
 }
 
+// A map made on some vertices only (the part search's rough candidates) is judged on the
+// faces whose three vertices have images: the rest (-1) neither count nor crash.
+TEST_F(HandednessOnBlob, FacesWithUnmappedVerticesAreLeftOut) {
+  const int n = shape_->mesh().num_vertices();
+  std::vector<int> half(n), mirror_half(n);
+  for (int v = 0; v < n; ++v) half[v] = v % 3 ? v : -1;
+  const double kept =
+      dense_orientation_agreement(shape_->mesh(), shape_->normals(), shape_->mesh(), shape_->normals(), half);
+  const double mirrored_kept =
+      dense_orientation_agreement(shape_->mesh(), shape_->normals(), mirror_->mesh(), mirror_->normals(), half);
+  std::vector<int> none(n, -1);
+  EXPECT_GT(kept, 0.99);
+  EXPECT_LT(mirrored_kept, 0.01);
+  EXPECT_EQ(dense_orientation_agreement(shape_->mesh(), shape_->normals(), shape_->mesh(), shape_->normals(), none),
+            0.5);  // nothing to judge
+}
+
 // The neighbourhood test on a noisy dense map: each image moved to a random neighbour folds
 // many single faces, but neighbourhoods a few rings wide keep their handedness; the mirror
 // with the same noise reverses them.

@@ -141,7 +141,7 @@ double dense_orientation_agreement(const TriangleMesh& source, const std::vector
   int agree = 0, total = 0;
   for (const Face& f : source.faces) {
     const int a = target_of[f[0]], b = target_of[f[1]], c = target_of[f[2]];
-    if (a == b || b == c || a == c) continue;
+    if (a == b || b == c || a == c || a < 0 || b < 0 || c < 0) continue;
     const Vec3 ns = source_normals[f[0]] + source_normals[f[1]] + source_normals[f[2]];
     const Vec3 nt = target_normals[a] + target_normals[b] + target_normals[c];
     const double s = handedness(source.vertices[f[0]], source.vertices[f[1]], source.vertices[f[2]], ns);

@@ -31,7 +31,7 @@ struct MatchSummary {
 struct PartCandidate {
   double orientation = 0;    // share of faces keeping handedness
   double curvature = 0;      // PartCurvature disagreement at its kappa
-  double covered = 0;        // its image's area / the area the part should cover
+  double covered = 0;        // its image's area / the area the part should cover (NaN: not measured, a non-finalist)
   double scale = 1;          // kappa
   double distortion = 0;     // its grown sample map's boundary-aware distortion
   double level0_distortion = 0;  // its extremity map's scale-invariant distortion

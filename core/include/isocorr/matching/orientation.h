@@ -59,7 +59,8 @@ class HandednessGuard {
 };
 
 // Over a dense vertex map (clean-mesh numbering): the fraction of source faces whose three
-// images span a triangle of the same handedness (faces mapped to a point are skipped).
+// images span a triangle of the same handedness (faces mapped to a point, or with a vertex
+// left unmapped (-1), are skipped).
 double dense_orientation_agreement(const TriangleMesh& source, const std::vector<Vec3>& source_normals,
                                    const TriangleMesh& target, const std::vector<Vec3>& target_normals,
                                    const std::vector<int>& target_of);
