@@ -79,12 +79,13 @@ Eigen::MatrixXf fit_functional_map(const SpectralRows& a, const SpectralRows& b,
     const double weight = fit.commutativity * static_cast<double>(a.rows()) / (largest * largest);
     // Column j of C solves its own system: the term only adds to the diagonal. Each system
     // is positive definite, so a Cholesky factor without pivoting does (Eigen's is blocked:
-    // at k = 200 it takes 60% of the pivoting LDL^T's time).
-    for (int j = 0; j < k; ++j) {
+    // at k = 200 it takes 60% of the pivoting LDL^T's time). The k factorisations are most
+    // of a fit at k = 200: they go to the workers side by side.
+    parallel_for(k, fit.threads, [&](int j, int) {
       Eigen::MatrixXd system = normal;
       system.diagonal().array() += weight * (source_values - target_values(j)).square();
       c.col(j) = system.llt().solve(rhs.col(j));
-    }
+    });
   } else {
     c = normal.llt().solve(rhs);
   }

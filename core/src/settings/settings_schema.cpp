@@ -149,7 +149,8 @@ std::vector<SettingField> build_schema() {
       row("zoomout_polish_k_step", kMatch, closed(1, 1000), "spectral refinement: basis growth per polish step",
           [](auto& s) -> auto& { return s.zoomout.polish_k_step; }),
       row("zoomout_commutativity", kMatch, closed(0, 1000),
-          "spectral refinement: weight of the Laplacian commutativity term in each functional-map fit (0 = none)",
+          "spectral refinement: weight of the Laplacian commutativity term in each functional-map fit (0 = none; "
+          "full-shape matching only: a part's spectrum is not the whole's)",
           [](auto& s) -> auto& { return s.zoomout.commutativity; }),
       row("outlier_repair", kMatch, {},
           "each refined map's vertices that break geodesic distances to its anchors far more than the rest are placed again",

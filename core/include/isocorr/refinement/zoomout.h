@@ -36,12 +36,17 @@ struct ZoomOutOptions {
   // pairs 0.0091 -> 0.0086, TOSCA 5k 0.0154 -> 0.0146, michael 0.0094 -> 0.0077.
   int polish_k_end = 200;
   int polish_k_step = 5;
-  double commutativity = 0;  // weight of the Laplacian commutativity term in each fit
-                             // (functional_map_fit.h). Off by default: at 10 it lowers
-                             // the error (SCAPE D_grd 0.0099 -> 0.0093, TOSCA 5k 0.0183 ->
-                             // 0.0167, FAUST 5k 0.0137 -> 0.0121) but 5 of the first 18
-                             // FAUST 5k pairs end mirrored (1 at 1, 0 at 0); on the final
-                             // dense refits alone it changes nothing.
+  // Weight of the Laplacian commutativity term in every fit (functional_map_fit.h): the
+  // functional map of an isometry commutes with the Laplacians, and from the ground truth
+  // the coarse stages without it pulled maps away from it (README "Where the remaining
+  // error comes from"). At 10 on every pair of each set (isocorr-bench --as-set-only):
+  // D_grd SCAPE 0.0125 -> 0.0118, faust_reg6890 0.0080 -> 0.0070, TOSCA hi-res 0.0123 ->
+  // 0.0101 (michael 0.0077 -> 0.0030), TOSCA 5k 0.0146 -> 0.0144, and TOSCA's last
+  // flipped pair (cat2 -> cat3, both sets) right; no pair newly flipped. 30 gave TOSCA 5k
+  // the same, 100 0.0158. Before the choice by finished candidates' dense evidence, 10
+  // mirrored 5 of the first 18 FAUST 5k pairs; 0 turns it off. Cost: +0.15-0.25 s per
+  // 5K pair, michael0 -> michael1 17.3 -> 22.4 s (README).
+  double commutativity = 10;
   int threads = 0;
 };
 
