@@ -260,7 +260,7 @@ void fill_from_parents(const VisitOrder& visit, int fallback, std::vector<int>& 
   for (const int v : visit.order)
     if (forward[v] < 0 && visit.parent[v] >= 0) forward[v] = forward[visit.parent[v]];
   for (int& t : forward)
-    if (t < 0) t = fallback;  // unreachable from the first vertex: cannot happen on a cleaned mesh
+    if (t < 0) t = fallback;  // unreachable from the first vertex, as in dense_part_map
 }
 
 // The target side of the dense anchors: each pair's image and its distance field, either
@@ -392,7 +392,9 @@ DenseMap dense_part_map(const PartGeometry& part, const TrackedMap& chosen, cons
     dense.forward[v] = descend_to_minimum<CostPrice::kDear>(target_topology, start, cost, best);
     dense.forward_diso[v] = best / source_diameter;
   }
-  if (wanted.empty()) fill_from_parents(visit, target.sample_vertex(pairs.front().target_sample), dense.forward);
+  for (int v = 0; v < source_vertices; ++v)  // unreachable from the first vertex: cannot happen on a cleaned mesh
+    if (dense.forward[v] < 0 && (wanted.empty() || wanted[v]))
+      dense.forward[v] = target.sample_vertex(pairs.front().target_sample);
   return dense;
 }
 
@@ -542,12 +544,13 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   std::vector<double> covered(maps.size(), std::numeric_limits<double>::quiet_NaN());
   const std::vector<double> target_vertex_areas = vertex_areas(target.mesh());
   const PartCurvature part_curvature(part, scales, threads);
-  // The evidence the choice weighs, of candidate i's dense map.
-  auto measure = [&](int i) {
+  // The evidence the choice weighs, of candidate i's dense map (the covered share needs a
+  // map on every vertex).
+  auto measure = [&](int i, bool with_covered_share) {
     result.tracked[i].orientation = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
                                                                 target.normals(), dense[i].forward);
     curvature[i] = part_curvature.disagreement(dense[i].forward, scales[i]);
-    covered[i] = covered_share(source, target, target_vertex_areas, scales[i], dense[i]);
+    if (with_covered_share) covered[i] = covered_share(source, target, target_vertex_areas, scales[i], dense[i]);
   };
   const bool finish = settings.refine != RefineMethod::kNone && settings.rigidity.iterations > 0;
   // Without finishing, every candidate competes on its dense map. With it, only the
@@ -560,11 +563,8 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   parallel_for(static_cast<int>(maps.size()), threads, [&](int i, int) {
     dense[i] = dense_part_map(part, result.tracked[i], sample_anchors(target, result.tracked[i].pairs), scales[i],
                               visit_order(maps[i]), wanted, control);
-    if (!finish) return measure(i);
-    result.tracked[i].orientation = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
-                                                                target.normals(), dense[i].forward);
-    fill_from_parents(visit_order(maps[i]), first_image(i), dense[i].forward);
-    curvature[i] = part_curvature.disagreement(dense[i].forward, scales[i]);
+    measure(i, !finish);
+    if (finish) fill_from_parents(visit_order(maps[i]), first_image(i), dense[i].forward);  // for the report
   });
   // The finalists, made on every vertex and finished, are measured again and compete: a
   // rough map's curvature carries a sample spacing's worth of noise.
@@ -582,7 +582,7 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
       dense[i] = dense_part_map(part, result.tracked[i], sample_anchors(target, result.tracked[i].pairs), scales[i],
                                 visit_order(maps[i]), {}, control);
       polish_part_map(source, target, finalist_polish, scales[i], 1, dense[i], control);  // side by side
-      measure(i);
+      measure(i, true);
     });
   // The winner: least curvature disagreement among the finalists that keep handedness. The
   // sample distortion the candidates were grown by cannot judge them (a map grown from wrong
