@@ -82,15 +82,34 @@ OutlierRepair repair_outliers(const PreprocessedShape& source, const Preprocesse
   report.flagged = static_cast<int>(flagged.size());
   control.check_cancelled();
 
+  // The search reads every offered sample's distances to the anchors in a row, and a sample
+  // is dropped as soon as its partial sum exceeds the best mean so far: the terms are
+  // non-negative, so the result is the full search's (michael's 52K pair flags thousands of
+  // vertices in some candidates, and each read a column of the fields before).
   const std::vector<int>& offered = target.spectral_samples();
+  const size_t anchor_count = anchors.size();
+  std::vector<float> offered_fields(offered.size() * anchor_count);
+  for (size_t s = 0; s < offered.size(); ++s)
+    for (size_t k = 0; k < anchor_count; ++k)
+      offered_fields[s * anchor_count + k] = target_field(anchors[k], offered[s]);
+  // Rounding slack on the bound, so that a sample is dropped only when it cannot win.
+  constexpr double kBoundSlack = 1 + 1e-9;
   std::vector<int> moved_to(flagged.size(), -1);
   parallel_for(static_cast<int>(flagged.size()), threads, [&](int i, int) {
     const int v = flagged[i];
+    std::vector<float> at_source(anchor_count);
+    for (size_t k = 0; k < anchor_count; ++k) at_source[k] = source.field(anchors[k], v);
     int best = forward[v];
     double best_distortion = current[v];
-    for (const int w : offered) {
-      const double d = distortion(v, w);
-      if (d < best_distortion) best_distortion = d, best = w;
+    for (size_t s = 0; s < offered.size(); ++s) {
+      const float* row = offered_fields.data() + s * anchor_count;
+      const double bound = best_distortion * anchor_count * kBoundSlack;
+      double sum = 0;
+      size_t k = 0;
+      for (; k < anchor_count && sum <= bound; ++k) sum += std::abs(at_source[k] - row[k]);
+      if (k < anchor_count) continue;
+      const double d = sum / anchor_count;
+      if (d < best_distortion) best_distortion = d, best = offered[s];
     }
     float reached = 0;
     best = descend_to_minimum<CostPrice::kDear>(target.geodesics().topology(), best,
