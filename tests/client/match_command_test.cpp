@@ -60,6 +60,13 @@ TEST_F(MatchCommand, WritesMapsAndReportThatEvalScores) {
   std::ifstream in(report);
   const nlohmann::json json = nlohmann::json::parse(in);
   EXPECT_GT(json["timings_seconds"]["total"].get<double>(), 0);
+  // The refine stage's steps are listed apart and fit within it.
+  double steps = 0;
+  for (const char* step : {"screen", "refine", "finish", "polish"}) {
+    ASSERT_TRUE(json["refine_steps_seconds"].contains(step)) << step;
+    steps += json["refine_steps_seconds"][step].get<double>();
+  }
+  EXPECT_LE(steps, json["timings_seconds"]["refine"].get<double>() + 1e-6);
   EXPECT_FALSE(json["tracked"].empty());
   EXPECT_LT(json["final"]["diso"].get<double>(), 0.01);
 

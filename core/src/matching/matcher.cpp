@@ -105,6 +105,7 @@ DenseMap match_complete(const PreprocessedShape& source, const PreprocessedShape
     result.refined = std::move(refined.candidates);
     result.refined_chosen = refined.chosen;
     result.refined_why = std::move(refined.why);
+    result.refine_timings = std::move(refined.timings);
     if (settings.outlier_repair)
       result.notes.push_back("outlier repair: " + std::to_string(refined.repair.moved) + " of " +
                              std::to_string(refined.repair.flagged) + " flagged vertices placed again (" +

@@ -17,6 +17,12 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
   for (const auto& t : result.timings) timings[t.stage] = t.seconds, total += t.seconds;
   timings["total"] = total;
   report["timings_seconds"] = timings;
+  // The refine stage's steps, apart: they are part of its time, not added to the total.
+  if (!result.refine_timings.empty()) {
+    json steps = json::object();
+    for (const auto& t : result.refine_timings) steps[t.stage] = t.seconds;
+    report["refine_steps_seconds"] = steps;
+  }
 
   json level0 = json::array();
   const size_t shown = std::min<size_t>(result.level0.size(), 20);

@@ -133,6 +133,8 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
                                const std::vector<TrackedMap>& tracked, const std::vector<int>& ranked,
                                const MatchSettings& settings, const JobControl& control) {
   require_spectral_bases(source, target);
+  RefinedMatch result;
+  StageClock clock(result.timings);
   // The best ranked distinct tracked maps are screened by a short refinement on the
   // samples; refine_candidates of them, from the ranking and the screen in turn, go on
   // (candidate_screening.h).
@@ -148,10 +150,10 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
   options.threads = settings.threads;
   std::vector<ScreenedStart> starts = screen_tracked_maps(
       source, target, tracked, picked, std::min(settings.screen_k_end, options.k_end), options, control);
-  RefinedMatch result;
   for (const ScreenedStart& start : starts) result.screened.push_back(start.evidence);
   starts = starts_to_refine(std::move(starts), settings.refine_candidates, settings.orientation_margin,
                             target.geodesics().topology());
+  clock.finish("screen");
 
   const SpectralSide source_side = spectral_side(source), target_side = spectral_side(target);
   const RigidityPolish rigidity(source, target, rigidity_options(settings));
@@ -187,6 +189,7 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
     maps.push_back(std::move(map));
     refined.push_back(starts[i].evidence.tracked_index);
   }
+  clock.finish("refine");
   // A mirror image stays one when finished (it reverses handedness everywhere): the
   // handedness of the spectral maps decides which are worth finishing.
   std::vector<double> handedness(maps.size());
@@ -248,6 +251,7 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
     measure(result.chosen, result.candidates[result.chosen], settings.threads);
   }
   result.repair = repairs[result.chosen];
+  clock.finish("finish");
   // The candidates' evidence describes their maps before the spectral polish: it decided
   // the choice.
   spectral_polish(source_side, target_side, options, winner, control,
@@ -261,6 +265,7 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
   result.dense.forward_diso = std::move(winner.residual);
   result.dense.reverse = std::move(winner.reverse_image);
   result.dense.reverse_diso = std::move(winner.reverse_residual);
+  clock.finish("polish");
   return result;
 }
 

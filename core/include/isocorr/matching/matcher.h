@@ -56,6 +56,7 @@ struct MatchResult {
   double diso_max = 0;                    // d_iso-dagger
   double dense_orientation = 0;           // fraction of source faces keeping handedness
   std::vector<StageTiming> timings;
+  std::vector<StageTiming> refine_timings;  // refine = zoomout: the refine stage's steps
   std::vector<std::string> notes;         // repairs and remarks, for the report
   // method = part: the source's scale per target unit, and the share of the target's area
   // the part's image covers (reverse map -1 elsewhere).

@@ -13,6 +13,7 @@
 #include "isocorr/refinement/final_polish.h"
 #include "isocorr/refinement/outlier_repair.h"
 #include "isocorr/settings/match_settings.h"
+#include "isocorr/util/stage_clock.h"
 
 namespace isocorr {
 
@@ -25,6 +26,9 @@ struct RefinedMatch {
   std::string why;
   OutlierRepair repair;  // what the outlier repair of the winner did (settings.outlier_repair)
   FinalPolishOutcome final_polish;  // settings.rigidity_final_iterations (after settings.refine_passes)
+  // Wall-clock time of the steps above: screen, refine (spectral, every start), finish
+  // (repair, rigidity polish and dense measures of the candidates), polish (the winner's).
+  std::vector<StageTiming> timings;
 };
 
 // `ranked`: tracked-map indices, best first by the sparse choice rule. The first
