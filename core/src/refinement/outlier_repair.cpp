@@ -1,6 +1,7 @@
 #include "isocorr/refinement/outlier_repair.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "isocorr/matching/surface_descent.h"
@@ -68,13 +69,23 @@ OutlierRepair repair_outliers(const PreprocessedShape& source, const Preprocesse
   OutlierRepair report;
   report.anchors = static_cast<int>(anchors.size());
   if (anchors.empty()) return report;
-  auto distortion = [&](int v, int w) {
+  // A vertex's distances to the anchors, read once per vertex (a column of the fields).
+  using AnchorDistances = std::array<float, kAnchors>;
+  const size_t anchor_count = anchors.size();
+  auto gather = [&](int v, AnchorDistances& at_source) {
+    for (size_t k = 0; k < anchor_count; ++k) at_source[k] = source.field(anchors[k], v);
+  };
+  auto distortion = [&](const AnchorDistances& at_source, int w) {
     double sum = 0;
-    for (const int a : anchors) sum += std::abs(source.field(a, v) - target_field(a, w));
-    return sum / anchors.size();
+    for (size_t k = 0; k < anchor_count; ++k) sum += std::abs(at_source[k] - target_field(anchors[k], w));
+    return sum / anchor_count;
   };
   std::vector<double> current(n);
-  parallel_for(n, threads, [&](int v, int) { current[v] = distortion(v, forward[v]); });
+  parallel_for(n, threads, [&](int v, int) {
+    AnchorDistances at_source;
+    gather(v, at_source);
+    current[v] = distortion(at_source, forward[v]);
+  });
   report.median_distortion = median(current);
   std::vector<int> flagged;
   for (int v = 0; v < n; ++v)
@@ -87,7 +98,6 @@ OutlierRepair repair_outliers(const PreprocessedShape& source, const Preprocesse
   // non-negative, so the result is the full search's (michael's 52K pair flags thousands of
   // vertices in some candidates, and each read a column of the fields before).
   const std::vector<int>& offered = target.spectral_samples();
-  const size_t anchor_count = anchors.size();
   std::vector<float> offered_fields(offered.size() * anchor_count);
   for (size_t s = 0; s < offered.size(); ++s)
     for (size_t k = 0; k < anchor_count; ++k)
@@ -97,23 +107,26 @@ OutlierRepair repair_outliers(const PreprocessedShape& source, const Preprocesse
   std::vector<int> moved_to(flagged.size(), -1);
   parallel_for(static_cast<int>(flagged.size()), threads, [&](int i, int) {
     const int v = flagged[i];
-    std::vector<float> at_source(anchor_count);
-    for (size_t k = 0; k < anchor_count; ++k) at_source[k] = source.field(anchors[k], v);
+    AnchorDistances at_source;
+    gather(v, at_source);
     int best = forward[v];
     double best_distortion = current[v];
+    double bound = best_distortion * anchor_count * kBoundSlack;
     for (size_t s = 0; s < offered.size(); ++s) {
       const float* row = offered_fields.data() + s * anchor_count;
-      const double bound = best_distortion * anchor_count * kBoundSlack;
       double sum = 0;
       size_t k = 0;
       for (; k < anchor_count && sum <= bound; ++k) sum += std::abs(at_source[k] - row[k]);
       if (k < anchor_count) continue;
       const double d = sum / anchor_count;
-      if (d < best_distortion) best_distortion = d, best = offered[s];
+      if (d < best_distortion) {
+        best_distortion = d, best = offered[s];
+        bound = best_distortion * anchor_count * kBoundSlack;
+      }
     }
     float reached = 0;
     best = descend_to_minimum<CostPrice::kDear>(target.geodesics().topology(), best,
-                              [&](int w) { return static_cast<float>(distortion(v, w)); }, reached);
+                              [&](int w) { return static_cast<float>(distortion(at_source, w)); }, reached);
     if (reached < kAcceptFactor * current[v] - report.median_distortion) moved_to[i] = best;
   });
   for (size_t i = 0; i < flagged.size(); ++i) {

@@ -45,7 +45,8 @@ struct ZoomOutOptions {
   // flipped pair (cat2 -> cat3, both sets) right; no pair newly flipped. 30 gave TOSCA 5k
   // the same, 100 0.0158. Before the choice by finished candidates' dense evidence, 10
   // mirrored 5 of the first 18 FAUST 5k pairs; 0 turns it off. Cost: +0.15-0.25 s per
-  // 5K pair, michael0 -> michael1 17.3 -> 22.4 s (README).
+  // 5K pair; michael0 -> michael1 17.3 -> 22.4 s at first, 18.8-20.5 s once the outlier
+  // repair's search was made cheaper (README).
   double commutativity = 10;
   int threads = 0;
 };
