@@ -21,6 +21,8 @@
 #include "isocorr/geodesic/geodesic_diameter.h"
 #include "isocorr/matching/pipeline.h"
 #include "isocorr/mesh/mesh_io.h"
+#include "isocorr/partial/part_matching.h"
+#include "isocorr/partial/partial_refinement.h"
 #include "isocorr/partial/partial_cut.h"
 #include "settings_flags.h"
 
@@ -36,6 +38,29 @@ const CutSpec kCuts[] = {
     {CutKind::kHoles, 0.8, 3, 4},
 };
 const char* const kCutNames[] = {"ball70", "ball55", "plane", "holes"};
+
+// The ground truth as a map of every part vertex (clean numbering): a vertex without a true
+// image takes that of the nearest vertex (in space) that has one.
+std::vector<int> dense_truth(const PreprocessedShape& part, const PreprocessedShape& target, const GroundTruth& truth) {
+  const CleanMesh& pc = part.clean();
+  const CleanMesh& tc = target.clean();
+  std::vector<int> image(pc.mesh.num_vertices(), -1);
+  for (size_t k = 0; k < truth.source.size(); ++k) image[pc.input_to_clean[truth.source[k]]] = tc.input_to_clean[truth.target[k]];
+  std::vector<int> known;
+  for (int v = 0; v < static_cast<int>(image.size()); ++v)
+    if (image[v] >= 0) known.push_back(v);
+  std::vector<int> filled = image;
+  for (int v = 0; v < static_cast<int>(image.size()); ++v) {
+    if (image[v] >= 0 || known.empty()) continue;
+    int nearest = known.front();
+    for (const int k : known)
+      if ((pc.mesh.vertices[k] - pc.mesh.vertices[v]).squaredNorm() <
+          (pc.mesh.vertices[nearest] - pc.mesh.vertices[v]).squaredNorm())
+        nearest = k;
+    filled[v] = image[nearest];
+  }
+  return filled;
+}
 
 struct Tally {
   int pairs = 0, right = 0;
@@ -109,7 +134,8 @@ int main(int argc, char** argv) {
         try {
           const PartialShape part = cut_partial_shape(source.mesh, cut);
           const auto start = std::chrono::steady_clock::now();
-          const MatchResult result = match_meshes(part.mesh, target_mesh, settings);
+          MeshPairShapes shapes(part.mesh, target_mesh);
+          const MatchResult result = run_match(shapes, settings);
           const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
           EvaluationOptions options;
           options.max_points = points;
@@ -137,6 +163,29 @@ int main(int argc, char** argv) {
                           pc.curvature, pc.covered, pc.scale, pc.distortion, pc.level0_distortion, cs.mean_error,
                           cs.mirrored_fraction);
             }
+            // How the choice's measures judge the truth itself: a truth that loses to the chosen
+            // map on them is a failure of the measures, one that wins a failure of the search.
+            const auto part_shape = shapes.shape(ShapeRole::kSource, settings.preprocess, {});
+            const auto target_shape = shapes.shape(ShapeRole::kTarget, settings.preprocess, {});
+            const std::vector<int> truth_map = dense_truth(*part_shape, *target_shape, part_truth);
+            std::vector<int> chosen(part_shape->mesh().num_vertices());
+            for (size_t v = 0; v < chosen.size(); ++v)
+              chosen[v] = target_shape->clean().input_to_clean[result.output.forward[part_shape->clean().clean_to_input[v]]];
+            const double truth_scale = measure_part_maps(*part_shape, *target_shape, {&truth_map}, settings.threads)[0].scale;
+            const std::vector<int> refined_truth =
+                refine_part_map_spectrally(*part_shape, *target_shape, truth_scale, settings.zoomout, truth_map);
+            const std::vector<PartMapEvidence> judged = measure_part_maps(
+                *part_shape, *target_shape, {&truth_map, &refined_truth, &chosen}, settings.threads);
+            std::vector<int> refined_in_files(part.mesh.num_vertices());
+            for (size_t v = 0; v < refined_in_files.size(); ++v)
+              refined_in_files[v] = target_shape->clean().clean_to_input[refined_truth[part_shape->clean().input_to_clean[v]]];
+            const GroundTruthScore refined_score =
+                score_against_ground_truth(target_mesh, geodesics, diameter, refined_in_files, part_truth, options);
+            const char* const names[] = {"ground truth", "truth refined", "chosen map"};
+            for (int j = 0; j < 3; ++j)
+              std::printf("   %-13s: orientation %.2f curvature %.4f kappa %.3f distortion %.4f%s\n", names[j],
+                          judged[j].orientation, judged[j].curvature, judged[j].scale, judged[j].distortion,
+                          j == 1 ? (" | D_grd " + std::to_string(refined_score.mean_error)).c_str() : "");
             for (const std::string& note : result.notes)
               if (note.find("map kept") != std::string::npos) std::printf("   %s\n", note.c_str());  // part or whole, and why
           }

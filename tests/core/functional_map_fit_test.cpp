@@ -1,5 +1,6 @@
 // The functional-map fit: on a shape matched to itself, where the true C is the identity,
 // and on many random rows, where the answer is a least-squares fit made orthogonal.
+#include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -46,6 +47,21 @@ TEST(FunctionalMapFit, CommutativityDeterminesAnUnderdeterminedFit) {
   EXPECT_LT((commuting - identity).norm(), 0.05);
 }
 
+// rows x cols entries drawn from the standard normal distribution.
+SpectralRows normal_rows(int rows, int cols, std::mt19937& random) {
+  std::normal_distribution<float> normal;
+  SpectralRows m(rows, cols);
+  for (int i = 0; i < rows; ++i)
+    for (int j = 0; j < cols; ++j) m(i, j) = normal(random);
+  return m;
+}
+
+// A random rows x cols matrix with orthonormal columns (cols <= rows).
+Eigen::MatrixXd orthonormal_columns(int rows, int cols, std::mt19937& random) {
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(normal_rows(rows, cols, random).cast<double>());
+  return Eigen::MatrixXd(qr.householderQ()).leftCols(cols);
+}
+
 // Pairs that carry almost nothing of one basis function leave the least-squares C nearly
 // singular (here R diag(1e-7, 1, ..., 1) R^T, R a rotation); its nearest orthogonal matrix
 // is still the identity. The fast polar factor squares C's condition number, so such a C
@@ -53,15 +69,8 @@ TEST(FunctionalMapFit, CommutativityDeterminesAnUnderdeterminedFit) {
 TEST(FunctionalMapFit, ANearlySingularFitStillGivesTheNearestOrthogonalMap) {
   constexpr int kRows = 2000, kColumns = 12;
   std::mt19937 random(11);
-  std::normal_distribution<float> normal;
-  SpectralRows source(kRows, kColumns);
-  for (int i = 0; i < kRows; ++i)
-    for (int j = 0; j < kColumns; ++j) source(i, j) = normal(random);
-  Eigen::MatrixXd any(kColumns, kColumns);
-  for (int i = 0; i < kColumns; ++i)
-    for (int j = 0; j < kColumns; ++j) any(i, j) = normal(random);
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(any);
-  const Eigen::MatrixXd rotation = qr.householderQ();
+  const SpectralRows source = normal_rows(kRows, kColumns, random);
+  const Eigen::MatrixXd rotation = orthonormal_columns(kColumns, kColumns, random);
   Eigen::VectorXd scales = Eigen::VectorXd::Ones(kColumns);
   scales(0) = 1e-7;
   const SpectralRows target =
@@ -109,6 +118,29 @@ TEST(FunctionalMapFit, ManyRowsFitTheSameOnAnyNumberOfWorkers) {
   EXPECT_LT((alone - expected).norm(), 1e-5);
   EXPECT_GT((alone - permutation).norm(), 1e-4) << "the noise should move the fit off the permutation";
   EXPECT_TRUE(alone == shared);
+}
+
+// From a part (12 functions) to a whole (20): C is wide, sqrt(20 / 12) times a matrix with
+// orthonormal rows, and the fit gives it back from noise-free pairs.
+TEST(FunctionalMapFit, APartsWideMapComesBackWithRowsOfTheWholesNorm) {
+  constexpr int kRows = 3000, kPart = 12, kWhole = 20;
+  std::mt19937 random(5);
+  const SpectralRows source = normal_rows(kRows, kPart, random);
+  const Eigen::MatrixXd orthonormal_rows = orthonormal_columns(kWhole, kPart, random).transpose();
+  const Eigen::MatrixXd expected = std::sqrt(double(kWhole) / kPart) * orthonormal_rows;
+  const SpectralRows target = source * expected.cast<float>();
+  const Eigen::MatrixXf c = fit_functional_map(source, target);
+  ASSERT_EQ(c.rows(), kPart);
+  ASSERT_EQ(c.cols(), kWhole);
+  EXPECT_LT((c.cast<double>() - expected).norm(), 1e-4);
+  EXPECT_LT((c * c.transpose() - (float(kWhole) / kPart) * Eigen::MatrixXf::Identity(kPart, kPart)).norm(), 1e-4);
+
+  // One row scaled far down (C C^T's condition below the fast path's bound, so the SVD
+  // decides): the nearest map is the same, to within the floats' rounding of that row.
+  Eigen::VectorXd scales = Eigen::VectorXd::Ones(kPart);
+  scales(0) = 5e-5;
+  const SpectralRows squeezed = source * (scales.asDiagonal() * expected).cast<float>();
+  EXPECT_LT((fit_functional_map(source, squeezed).cast<double>() - expected).norm(), 1e-2);
 }
 
 }  // namespace

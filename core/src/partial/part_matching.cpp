@@ -1,4 +1,5 @@
 #include "isocorr/partial/part_matching.h"
+#include "isocorr/partial/partial_refinement.h"
 
 #include <algorithm>
 #include <cmath>
@@ -576,11 +577,28 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   // without finalists).
   RigidityOptions finalist_polish = settings.rigidity;
   finalist_polish.iterations = std::max(1, settings.rigidity.iterations / 2);
+  // Each finalist's map refined spectrally (partial_refinement.h) before its polish, kept
+  // only if it then agrees better in curvature and keeps handedness: a refinement that
+  // folds a limb over (SCAPE 000 -> 002's 47% ball: a right map's orientation 0.79 -> 0.35)
+  // is dropped, as the rigidity polish could not undo it. Both are compared unpolished.
+  auto refine_if_better = [&](int i, int workers, std::vector<int>& forward) {
+    ZoomOutOptions options = settings.zoomout;
+    options.threads = workers;
+    std::vector<int> refined = refine_part_map_spectrally(source, target, scales[i], options, forward, control);
+    const double orientation =
+        dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(), target.normals(), refined);
+    const bool kept = orientation >= settings.orientation_threshold &&
+                      part_curvature.disagreement(refined, scales[i]) < part_curvature.disagreement(forward, scales[i]);
+    if (kept) forward = std::move(refined);
+    return kept;
+  };
+  std::vector<std::vector<int>> refined_maps(maps.size());  // a finalist's kept refinement, unpolished
   if (finish)
     parallel_for(static_cast<int>(finalists.size()), threads, [&](int k, int) {
       const int i = finalists[k];
       dense[i] = dense_part_map(part, result.tracked[i], sample_anchors(target, result.tracked[i].pairs), scales[i],
                                 visit_order(maps[i]), {}, control);
+      if (refine_if_better(i, 1, dense[i].forward)) refined_maps[i] = dense[i].forward;
       polish_part_map(source, target, finalist_polish, scales[i], 1, dense[i], control);  // side by side
       measure(i, true);
     });
@@ -614,10 +632,21 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
                                       std::move(dense[i].forward)});
   }
   const TrackedMap& winner = result.tracked[result.chosen];
-  const TargetAnchors anchors =
-      vertex_accurate_anchors(part, winner.pairs, scales[result.chosen], threads, control);
-  DenseMap chosen =
-      dense_part_map(part, winner, anchors, scales[result.chosen], visit_order(maps[result.chosen]), {}, control);
+  DenseMap chosen;
+  if (!refined_maps[result.chosen].empty()) {
+    // Its refined map is already finer than one made from vertex-accurate anchors.
+    chosen.forward = std::move(refined_maps[result.chosen]);
+    result.notes.push_back("part search: the chosen map is its finalist's spectral refinement");
+  } else {
+    const TargetAnchors anchors = vertex_accurate_anchors(part, winner.pairs, scales[result.chosen], threads, control);
+    chosen = dense_part_map(part, winner, anchors, scales[result.chosen], visit_order(maps[result.chosen]), {}, control);
+    if (finish) {
+      const bool refined = refine_if_better(result.chosen, threads, chosen.forward);
+      result.notes.push_back(std::string("part search: the chosen map made from vertex-accurate anchors, its spectral "
+                                         "refinement ") +
+                             (refined ? "kept" : "dropped (its curvature agreed less, or it lost handedness)"));
+    }
+  }
   // The complete pipeline's last stage, at the part's scale: the descent leaves each vertex
   // where its anchors' distances agree best, a sample spacing's worth of noise the polish
   // takes out (isocorr-bench-partial: Kim error of right maps 0.052 -> 0.050, and a map

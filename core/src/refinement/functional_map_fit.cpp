@@ -1,6 +1,7 @@
 #include "isocorr/refinement/functional_map_fit.h"
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include <Eigen/Cholesky>
@@ -20,18 +21,22 @@ constexpr Eigen::Index kFitChunkRows = 16384;
 // from the symmetric eigendecomposition of c^T c, which takes a third of the time of an
 // SVD at k = 150 (2.2 against 6.4 ms; the polish makes 21 fits at k = 100-200). Squaring
 // c squares its condition number, so a nearly singular c (a start with too few distinct
-// pairs) goes through the SVD.
+// pairs) goes through the SVD. A wide c (fewer source than target functions: a part) gets
+// orthonormal rows, from c c^T.
 Eigen::MatrixXd nearest_orthogonal(const Eigen::MatrixXd& c) {
   constexpr double kWellConditioned = 1e-8;  // least over largest eigenvalue of c^T c
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(c.transpose() * c);
+  const bool wide = c.rows() < c.cols();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(wide ? Eigen::MatrixXd(c * c.transpose())
+                                                                  : Eigen::MatrixXd(c.transpose() * c));
   if (eigen.info() == Eigen::Success) {
     const Eigen::VectorXd& values = eigen.eigenvalues();  // ascending
     if (values(0) > kWellConditioned * values(values.size() - 1)) {
       const Eigen::MatrixXd& vectors = eigen.eigenvectors();
-      return c * (vectors * values.cwiseSqrt().cwiseInverse().asDiagonal() * vectors.transpose());
+      const Eigen::MatrixXd inverse_root = vectors * values.cwiseSqrt().cwiseInverse().asDiagonal() * vectors.transpose();
+      return wide ? Eigen::MatrixXd(inverse_root * c) : Eigen::MatrixXd(c * inverse_root);
     }
   }
-  const Eigen::BDCSVD<Eigen::MatrixXd> svd(c, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::BDCSVD<Eigen::MatrixXd> svd(c, Eigen::ComputeThinU | Eigen::ComputeThinV);
   return svd.matrixU() * svd.matrixV().transpose();
 }
 
@@ -51,6 +56,7 @@ Eigen::MatrixXd nearest_orthogonal(const Eigen::MatrixXd& c) {
 // with a quarter of the pairs wrong, against exact with the projection).
 Eigen::MatrixXf fit_functional_map(const SpectralRows& a, const SpectralRows& b, const FunctionalMapFit& fit) {
   const int k = static_cast<int>(a.cols());
+  const int target_k = static_cast<int>(b.cols());
   // The normal equations summed over chunks of kFitChunkRows rows, the chunks on workers
   // side by side: on every vertex of a 52K mesh at k = 200 the products took 0.4 s on one
   // core while the other waited. Only the lower triangles are formed and read (the product
@@ -69,8 +75,8 @@ Eigen::MatrixXf fit_functional_map(const SpectralRows& a, const SpectralRows& b,
   Eigen::MatrixXd normal = std::move(normals[0]), rhs = std::move(rhss[0]);
   for (int chunk = 1; chunk < chunks; ++chunk) normal += normals[chunk], rhs += rhss[chunk];
   normal.diagonal().array() += 1e-9 * std::max(1.0, normal.diagonal().maxCoeff());
-  Eigen::MatrixXd c(k, k);
-  const bool commute = fit.commutativity > 0 && fit.source_eigenvalues && fit.target_eigenvalues &&
+  Eigen::MatrixXd c(k, target_k);
+  const bool commute = k == target_k && fit.commutativity > 0 && fit.source_eigenvalues && fit.target_eigenvalues &&
                        fit.source_eigenvalues->size() >= k && fit.target_eigenvalues->size() >= k && k > 1;
   if (commute) {
     const Eigen::ArrayXd source_values = fit.source_eigenvalues->head(k).cast<double>().array();
@@ -89,7 +95,12 @@ Eigen::MatrixXf fit_functional_map(const SpectralRows& a, const SpectralRows& b,
   } else {
     c = normal.llt().solve(rhs);
   }
-  return nearest_orthogonal(c).cast<float>();
+  // A part's k source functions against a whole's target_k (target_k / k = the whole's area
+  // over the part's, by Weyl's law): each whole function restricted to the part keeps about
+  // unit norm on the part's normalised area, so C's columns have norm about 1 and its rows
+  // about sqrt(target_k / k).
+  const double row_norm = std::sqrt(static_cast<double>(std::max(k, target_k)) / k);
+  return (row_norm * nearest_orthogonal(c)).cast<float>();
 }
 
 }  // namespace isocorr

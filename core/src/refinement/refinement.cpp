@@ -78,9 +78,9 @@ OutlierRepair finish_map(const PreprocessedShape& source, const PreprocessedShap
 template <class Finish>
 void spectral_polish(const SpectralSide& source_side, const SpectralSide& target_side, const ZoomOutOptions& options,
                      SpectralMap& map, const JobControl& control, const Finish& finish) {
-  const int basis_before = static_cast<int>(map.c.rows());
+  const int basis_before = static_cast<int>(map.c.cols());
   zoomout_polish(source_side, target_side, options, map, control);
-  if (static_cast<int>(map.c.rows()) != basis_before) finish();
+  if (static_cast<int>(map.c.cols()) != basis_before) finish();
 }
 
 // refine_from_pairs with the pair's rigidity system already built (its three sparse

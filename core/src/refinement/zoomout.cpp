@@ -1,6 +1,7 @@
 #include "isocorr/refinement/zoomout.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "isocorr/matching/surface_descent.h"
@@ -107,12 +108,17 @@ std::vector<int> starts_from_samples(const MeshTopology& topology, int vertex_co
 RowMatrix refit_on_every_vertex(const RowMatrix& source_rows, const RowMatrix& target_rows,
                                 const FunctionalMapFit& fit, int threads, const MeshTopology& target_topology,
                                 SpectralMap& map) {
-  const int k = static_cast<int>(source_rows.cols());
+  const int k = static_cast<int>(target_rows.cols());
   map.c = fit_functional_map(source_rows, gather_rows(target_rows, map.image, k), fit);
   RowMatrix pulled = times(source_rows, map.c, threads);
   const std::vector<int> start = map.image;
   recover_dense(pulled, target_rows, target_topology, start, threads, map.image, map.residual);
   return pulled;
+}
+
+// The source's basis size against k target functions: fewer for a part (source_share < 1).
+int source_size(int k, const ZoomOutOptions& options) {
+  return std::max(1, std::min(k, static_cast<int>(std::lround(options.source_share * k))));
 }
 
 // A basis size no larger than either shape's basis.
@@ -162,8 +168,8 @@ void grow_on_samples(const SpectralSide& source, const SpectralSide& target, int
   const FunctionalMapFit fit = fit_settings(source, target, options);
   for (int k = k_first;; k = std::min(k + std::max(1, options.k_step), k_end)) {
     control.check_cancelled();
-    const RowMatrix source_rows = gather_rows(phi_s, source_samples, k);
-    if (map.c.rows() != k) map.c = fit_functional_map(source_rows, gather_rows(phi_t, map.images, k), fit);
+    const RowMatrix source_rows = gather_rows(phi_s, source_samples, source_size(k, options));
+    if (map.c.cols() != k) map.c = fit_functional_map(source_rows, gather_rows(phi_t, map.images, k), fit);
     const RowMatrix queries = source_rows * map.c;
     const std::vector<int> nearest = nearest_rows(queries, gather_rows(phi_t, target_samples, k), threads);
     parallel_for(static_cast<int>(map.images.size()), threads, [&](int i, int) {
@@ -188,7 +194,8 @@ SampleMap zoomout_on_samples(const SpectralSide& source, const SpectralSide& tar
   std::vector<int> from, to;
   for (const auto& [s, t] : start) from.push_back(s), to.push_back(t);
   SampleMap map;
-  map.c = fit_functional_map(gather_rows(*source.basis, from, k_start), gather_rows(*target.basis, to, k_start),
+  map.c = fit_functional_map(gather_rows(*source.basis, from, source_size(k_start, options)),
+                             gather_rows(*target.basis, to, k_start),
                              fit_settings(source, target, options));
   map.images.assign(source.samples->size(), 0);
   grow_on_samples(source, target, k_start, k_end, options, map, control);
@@ -198,7 +205,7 @@ SampleMap zoomout_on_samples(const SpectralSide& source, const SpectralSide& tar
 void continue_on_samples(const SpectralSide& source, const SpectralSide& target, int k_end,
                          const ZoomOutOptions& options, SampleMap& map, const JobControl& control) {
   k_end = within_bases(k_end, source, target);
-  const int k = static_cast<int>(map.c.rows());
+  const int k = static_cast<int>(map.c.cols());
   if (map.images.size() != source.samples->size()) {
     // Grown on fewer samples: every sample is first mapped by the current C.
     map.images.assign(source.samples->size(), 0);
@@ -213,12 +220,12 @@ SpectralMap zoomout_dense(const SpectralSide& source, const SpectralSide& target
   // Dense recovery at the sampled map's basis size, then `dense_iterations` refits of C on
   // every vertex (the samples fix C's low-frequency part; all vertices sharpen the last
   // basis functions).
-  const int k = static_cast<int>(sampled.c.rows());
+  const int k = static_cast<int>(sampled.c.cols());
   const int threads = resolve_thread_count(options.threads);
   const FunctionalMapFit fit = fit_settings(source, target, options);
   SpectralMap result;
   result.c = sampled.c;
-  const RowMatrix source_rows = source.basis->leftCols(k);
+  const RowMatrix source_rows = source.basis->leftCols(sampled.c.rows());
   const RowMatrix target_rows = target.basis->leftCols(k);
   RowMatrix pulled = times(source_rows, sampled.c, threads);  // source vertices in target coordinates
   recover_dense(pulled, target_rows, *target.topology,
@@ -244,7 +251,7 @@ SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
 void zoomout_polish(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options,
                     SpectralMap& map, const JobControl& control) {
   const int k_end = within_bases(options.polish_k_end, source, target);
-  const int k = static_cast<int>(map.c.rows());
+  const int k = static_cast<int>(map.c.cols());
   if (k >= k_end) return;
   // C is fitted afresh at k from the map's own images of the samples (map.c belongs to the
   // map before it was finished).

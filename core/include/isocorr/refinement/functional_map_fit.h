@@ -1,5 +1,6 @@
-// The functional map of a set of point pairs: the k x k matrix C with a[i] C ~ b[i], where
-// a[i] and b[i] are the rows of the source and target eigenbases at pair i.
+// The functional map of a set of point pairs: the k x k' matrix C with a[i] C ~ b[i], where
+// a[i] and b[i] are the rows of the source and target eigenbases at pair i (k' = k between
+// complete shapes; k < k' from a part to a whole, partial_refinement.h).
 #pragma once
 
 #include <Eigen/Core>
@@ -23,7 +24,8 @@ struct FunctionalMapFit {
 // still solves), plus, with eigenvalues, the Laplacian commutativity term
 //   commutativity * n * sum_ij ((lambda_S,i - lambda_T,j) / lambda_T,k)^2 C_ij^2
 // (n pairs, so the weight does not depend on how many pairs there are; lambda_T,k, the
-// largest eigenvalue used, makes it scale-free), then the nearest orthogonal matrix.
+// largest eigenvalue used, makes it scale-free; square C only), then the nearest orthogonal
+// matrix (for k < k', sqrt(k' / k) times the nearest one with orthonormal rows).
 Eigen::MatrixXf fit_functional_map(const SpectralRows& a, const SpectralRows& b, const FunctionalMapFit& fit = {});
 
 }  // namespace isocorr

@@ -48,6 +48,11 @@ struct ZoomOutOptions {
   // 5K pair; michael0 -> michael1 17.3 -> 22.4 s at first, 18.8-20.5 s once the outlier
   // repair's search was made cheaper (README).
   double commutativity = 10;
+  // Source functions per target function: 1 between complete shapes; a part's share of the
+  // whole's area for a part (partial_refinement.h): a part's i-th eigenvalue is about the
+  // whole's (i / share)-th (Weyl's law), so C is fitted as share*k by k. No commutativity
+  // term then (its spectra are not one shape's).
+  double source_share = 1;
   int threads = 0;
 };
 
@@ -65,10 +70,10 @@ struct SpectralMap {
   std::vector<float> residual;  // spectral distance of each pair (lower = better agreement)
   std::vector<int> reverse_image;  // every target vertex -> source vertex, from the same C
   std::vector<float> reverse_residual;
-  Eigen::MatrixXf c;            // the last functional map (k_end x k_end)
+  Eigen::MatrixXf c;            // the last functional map (source functions x target functions)
 };
 
-// The sampled stage's state: the functional map at its current basis size (k = c.rows())
+// The sampled stage's state: the functional map at its current basis size (k = c.cols())
 // and the image (a target vertex) of each of the source's spectral samples.
 struct SampleMap {
   Eigen::MatrixXf c;
