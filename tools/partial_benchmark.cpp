@@ -22,8 +22,9 @@
 #include "isocorr/matching/pipeline.h"
 #include "isocorr/mesh/mesh_io.h"
 #include "isocorr/partial/part_matching.h"
-#include "isocorr/partial/partial_refinement.h"
 #include "isocorr/partial/partial_cut.h"
+#include "isocorr/partial/partial_refinement.h"
+#include "isocorr/util/kd_tree.h"
 #include "settings_flags.h"
 
 namespace {
@@ -49,16 +50,11 @@ std::vector<int> dense_truth(const PreprocessedShape& part, const PreprocessedSh
   std::vector<int> known;
   for (int v = 0; v < static_cast<int>(image.size()); ++v)
     if (image[v] >= 0) known.push_back(v);
+  if (known.empty()) return image;
+  const KdTree with_truth(pc.mesh.vertices, known);
   std::vector<int> filled = image;
-  for (int v = 0; v < static_cast<int>(image.size()); ++v) {
-    if (image[v] >= 0 || known.empty()) continue;
-    int nearest = known.front();
-    for (const int k : known)
-      if ((pc.mesh.vertices[k] - pc.mesh.vertices[v]).squaredNorm() <
-          (pc.mesh.vertices[nearest] - pc.mesh.vertices[v]).squaredNorm())
-        nearest = k;
-    filled[v] = image[nearest];
-  }
+  for (int v = 0; v < static_cast<int>(image.size()); ++v)
+    if (image[v] < 0) filled[v] = image[with_truth.nearest(pc.mesh.vertices[v])];
   return filled;
 }
 
@@ -171,11 +167,13 @@ int main(int argc, char** argv) {
             std::vector<int> chosen(part_shape->mesh().num_vertices());
             for (size_t v = 0; v < chosen.size(); ++v)
               chosen[v] = target_shape->clean().input_to_clean[result.output.forward[part_shape->clean().clean_to_input[v]]];
-            const double truth_scale = measure_part_maps(*part_shape, *target_shape, {&truth_map}, settings.threads)[0].scale;
+            std::vector<PartMapEvidence> judged =
+                measure_part_maps(*part_shape, *target_shape, {&truth_map}, settings.threads);
             const std::vector<int> refined_truth =
-                refine_part_map_spectrally(*part_shape, *target_shape, truth_scale, settings.zoomout, truth_map);
-            const std::vector<PartMapEvidence> judged = measure_part_maps(
-                *part_shape, *target_shape, {&truth_map, &refined_truth, &chosen}, settings.threads);
+                refine_part_map_spectrally(*part_shape, *target_shape, judged[0].scale, settings.zoomout, truth_map);
+            for (const PartMapEvidence& e :
+                 measure_part_maps(*part_shape, *target_shape, {&refined_truth, &chosen}, settings.threads))
+              judged.push_back(e);
             std::vector<int> refined_in_files(part.mesh.num_vertices());
             for (size_t v = 0; v < refined_in_files.size(); ++v)
               refined_in_files[v] = target_shape->clean().clean_to_input[refined_truth[part_shape->clean().input_to_clean[v]]];

@@ -1,5 +1,4 @@
 #include "isocorr/partial/part_matching.h"
-#include "isocorr/partial/partial_refinement.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,6 +9,7 @@
 
 #include "isocorr/matching/orientation.h"
 #include "isocorr/matching/surface_descent.h"
+#include "isocorr/partial/partial_refinement.h"
 #include "isocorr/refinement/dense_choice.h"
 #include "isocorr/refinement/rigidity_polish.h"
 #include "isocorr/util/error.h"
