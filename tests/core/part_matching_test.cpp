@@ -210,6 +210,12 @@ TEST_F(PartOfBlob, SpectralRefinementTakesScatteredErrorsOutOfAPartsMap) {
   EXPECT_GT(before, 0.04);  // 0.053 here
   EXPECT_LT(after, 0.04);   // 0.029 here
   EXPECT_LT(after, 0.7 * before);
+  // As a complete pipeline's map of the part is refined: then polished at its kappa too.
+  MatchSettings settings;
+  settings.threads = 2;
+  const double polished =
+      mean_error(part, in_files(refine_as_part_map(*source, *target, settings, 1 / 2.5, forward, {}).forward));
+  EXPECT_LT(polished, 0.7 * before);
 }
 
 // Holes barely move distances or the spectrum: both the part search and the complete
@@ -230,6 +236,10 @@ void PartOf<Subdivisions>::expect_part_with_holes_matches() {
     return note.rfind("part method: the ", 0) == 0 && note.find(" map kept") != std::string::npos;
   });
   EXPECT_TRUE(says_which);
+  const bool says_refined = std::any_of(result.notes.begin(), result.notes.end(), [](const std::string& note) {
+    return note.find("the complete pipeline's map refined as a part's") != std::string::npos;
+  });
+  EXPECT_TRUE(says_refined);
 }
 
 TEST_F(PartOfBlob, APartWithHolesIsMatchedAndTheReportSaysWhichMapWasKept) { expect_part_with_holes_matches(); }

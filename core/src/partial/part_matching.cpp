@@ -704,6 +704,18 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   return chosen;
 }
 
+DenseMap refine_as_part_map(const PreprocessedShape& source, const PreprocessedShape& target,
+                            const MatchSettings& settings, double scale, const std::vector<int>& forward,
+                            const JobControl& control) {
+  const int threads = resolve_thread_count(settings.threads);
+  ZoomOutOptions options = settings.zoomout;
+  options.threads = threads;
+  DenseMap map;
+  map.forward = refine_part_map_spectrally(source, target, scale, options, forward, control);
+  polish_part_map(source, target, settings.rigidity, scale, threads, map, control);
+  return map;
+}
+
 // Edge-graph Dijkstra from the images, carrying their source vertices.
 void add_part_reverse_map(const PreprocessedShape& source, const PreprocessedShape& target, double scale,
                           DenseMap& dense) {

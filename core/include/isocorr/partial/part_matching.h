@@ -52,6 +52,14 @@ struct PartMapEvidence {
 std::vector<PartMapEvidence> measure_part_maps(const PreprocessedShape& source, const PreprocessedShape& target,
                                                const std::vector<const std::vector<int>*>& forwards, int threads);
 
+// A part's map made by the complete pipeline, whose ZoomOut fitted a square C as if the
+// part were whole, refined as the part search's maps are: spectrally with a rectangular C
+// (partial_refinement.h), then the rigidity polish at the map's kappa `scale`. Returns the
+// map with its forward residuals (no reverse map).
+DenseMap refine_as_part_map(const PreprocessedShape& source, const PreprocessedShape& target,
+                            const MatchSettings& settings, double scale, const std::vector<int>& forward,
+                            const JobControl& control);
+
 // Fills dense.reverse (and reverse_diso) from dense.forward: target vertices near an image
 // take the source vertex of the nearest one, the rest -1 (no counterpart).
 void add_part_reverse_map(const PreprocessedShape& source, const PreprocessedShape& target, double scale,
