@@ -218,32 +218,6 @@ TEST_F(PartOfBlob, SpectralRefinementTakesScatteredErrorsOutOfAPartsMap) {
   EXPECT_LT(polished, 0.7 * before);
 }
 
-// The true map of a 60% part covers the area the part should cover at its kappa; a map
-// that keeps the images of a third of the part and piles the rest onto one vertex folds it.
-TEST_F(PartOfBlob, AMapPilingMostOfThePartOntoOneVertexFoldsIt) {
-  const PartialShape part = cut_partial_shape(*full_, {CutKind::kGeodesicBall, 0.6, 1, 2});
-  const auto source = PreprocessedShape::build(part.mesh, PreprocessOptions{});
-  const auto target = PreprocessedShape::build(copy_->mesh, PreprocessOptions{});
-  DenseMap truth;
-  const int n = source->mesh().num_vertices();
-  for (int p = 0; p < n; ++p)
-    truth.forward.push_back(
-        target->clean().input_to_clean[copy_->permutation[part.full_vertex[source->clean().clean_to_input[p]]]]);
-  truth.forward_diso.assign(n, 0.f);
-  EXPECT_FALSE(folds_the_part(*source, *target, 1 / 2.5, truth));
-  // Breadth-first from vertex 0: the first third keeps its images, the rest piles up.
-  const MeshTopology& topology = source->geodesics().topology();
-  std::vector<int> order{0};
-  std::vector<char> seen(n, 0);
-  seen[0] = 1;
-  for (size_t i = 0; i < order.size(); ++i)
-    for (const int* u = topology.neighbours_begin(order[i]); u != topology.neighbours_end(order[i]); ++u)
-      if (!seen[*u]) seen[*u] = 1, order.push_back(*u);
-  DenseMap folded = truth;
-  for (size_t i = order.size() / 3; i < order.size(); ++i) folded.forward[order[i]] = truth.forward[0];
-  EXPECT_TRUE(folds_the_part(*source, *target, 1 / 2.5, folded));
-}
-
 // Holes barely move distances or the spectrum: both the part search and the complete
 // pipeline compete, and the map kept must be a right one.
 template <int Subdivisions>

@@ -196,22 +196,16 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
   // smaller curvature disagreement wins.
   const bool part_upright = part_evidence.orientation >= settings.orientation_threshold;
   const bool whole_upright = whole_evidence.orientation >= settings.orientation_threshold;
-  // Then a map that folds the part onto much less than its own area loses (a 60K kid with
-  // three holes: the part search's map at kappa 3.1 covered 3.8% of the target and agreed
-  // better in curvature than the complete pipeline's right one).
-  const bool part_folds = folds_the_part(source, target, part_evidence.scale, part);
-  const bool whole_folds = folds_the_part(source, target, whole_evidence.scale, whole);
   const bool whole_wins = whole_upright != part_upright ? whole_upright
-                          : whole_folds != part_folds   ? part_folds
                                                         : whole_evidence.curvature < part_evidence.curvature;
-  auto describe = [](const char* name, const PartMapEvidence& e, bool folds) {
+  auto describe = [](const char* name, const PartMapEvidence& e) {
     return std::string(name) + " curvature disagreement " + std::to_string(e.curvature) + ", orientation " +
            std::to_string(e.orientation) + ", distortion " + std::to_string(e.distortion) + ", scale " +
-           std::to_string(e.scale) + (folds ? ", folds the part" : "");
+           std::to_string(e.scale);
   };
   const std::string why = method_name + ": the " + (whole_wins ? std::string("complete pipeline") : search_name) +
-                          "'s map kept; " + describe(search_name.c_str(), part_evidence, part_folds) + ", " +
-                          describe("complete pipeline", whole_evidence, whole_folds);
+                          "'s map kept; " + describe(search_name.c_str(), part_evidence) + ", " +
+                          describe("complete pipeline", whole_evidence);
   if (!whole_wins) {
     result.timings.insert(result.timings.end(), whole_result.timings.begin(), whole_result.timings.end());
     result.notes.push_back(why);

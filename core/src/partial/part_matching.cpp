@@ -704,14 +704,6 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   return chosen;
 }
 
-bool folds_the_part(const PreprocessedShape& source, const PreprocessedShape& target, double scale,
-                    const DenseMap& map) {
-  DenseMap copy;
-  copy.forward = map.forward;
-  copy.forward_diso = map.forward_diso;
-  return covered_share(source, target, vertex_areas(target.mesh()), scale, copy) < kMinCoveredShareFinished;
-}
-
 DenseMap refine_as_part_map(const PreprocessedShape& source, const PreprocessedShape& target,
                             const MatchSettings& settings, double scale, const std::vector<int>& forward,
                             const JobControl& control) {

@@ -60,12 +60,6 @@ DenseMap refine_as_part_map(const PreprocessedShape& source, const PreprocessedS
                             const MatchSettings& settings, double scale, const std::vector<int>& forward,
                             const JobControl& control);
 
-// True when `map`'s forward map, at kappa `scale`, covers less than 0.6 of the target area
-// the part should cover at that scale (area(part) / kappa^2): it folds the part onto a
-// smaller region, as no right map does (right finished maps cover 0.72-1.01 of it).
-bool folds_the_part(const PreprocessedShape& source, const PreprocessedShape& target, double scale,
-                    const DenseMap& map);
-
 // Fills dense.reverse (and reverse_diso) from dense.forward: target vertices near an image
 // take the source vertex of the nearest one, the rest -1 (no counterpart).
 void add_part_reverse_map(const PreprocessedShape& source, const PreprocessedShape& target, double scale,
