@@ -175,8 +175,7 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
   // Measured on the part benchmark's 36 development cuts: the same 31 right, Kim error of
   // the right ones 0.054 -> 0.048 (SCAPE 000 -> 001's 66% ball 0.035 -> 0.010, cat0 ->
   // cat3's 70% ball 0.050 -> 0.027), worse on 2 cuts by at most 0.001.
-  const bool finish = settings.refine != RefineMethod::kNone && settings.rigidity.iterations > 0;
-  if (finish) {
+  if (finishes_part_maps(settings)) {
     DenseMap refined = refine_as_part_map(source, target, settings, evidence[1].scale, whole.forward, control);
     const PartMapEvidence refined_evidence = measure_part_maps(source, target, {&refined.forward}, threads)[0];
     const bool kept = refined_evidence.orientation >= settings.orientation_threshold &&

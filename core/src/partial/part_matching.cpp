@@ -91,14 +91,16 @@ std::vector<ExtremityMap> rank_extremity_maps(const PartGeometry& part, const st
           part.target_exact(target.sample_vertex(i), target.sample_vertex(j), static_cast<float>(gt(i, j)));
 
   // A map's place: its distortion, then the order of enumeration (lexicographic in the
-  // targets), so that ties come out as a stable sort of all maps would leave them.
+  // targets: the first target, then the order within its worker), so that ties come out as
+  // a stable sort of all maps would leave them.
   struct Ranked {
     double distortion;
-    long long order;
+    long long order;  // within the worker of target_of[0]
     std::vector<int> target_of;
     double scale;
     bool operator<(const Ranked& o) const {
-      return distortion != o.distortion ? distortion < o.distortion : order < o.order;
+      if (distortion != o.distortion) return distortion < o.distortion;
+      return target_of[0] != o.target_of[0] ? target_of[0] < o.target_of[0] : order < o.order;
     }
   };
   std::vector<std::vector<Ranked>> best_of(target_count);
@@ -115,7 +117,8 @@ std::vector<ExtremityMap> rank_extremity_maps(const PartGeometry& part, const st
         ++order;
         if (scale < min_scale) return;
         if (static_cast<int>(heap.size()) == keep) {
-          if (!(Ranked{distortion, order, {}, 0} < heap.front())) return;
+          const Ranked& worst = heap.front();  // same first target: the order breaks ties
+          if (distortion > worst.distortion || (distortion == worst.distortion && order > worst.order)) return;
           std::pop_heap(heap.begin(), heap.end());
           heap.pop_back();
         }
@@ -133,13 +136,9 @@ std::vector<ExtremityMap> rank_extremity_maps(const PartGeometry& part, const st
     assign(1);
   });
   std::vector<Ranked> all;
-  for (auto& heap : best_of) {
-    std::sort(heap.begin(), heap.end());
+  for (auto& heap : best_of)
     for (Ranked& r : heap) all.push_back(std::move(r));
-  }
-  // Each worker's orders count from 1: the first target decides between workers.
-  std::stable_sort(all.begin(), all.end(),
-                   [](const Ranked& a, const Ranked& b) { return a.distortion < b.distortion; });
+  std::sort(all.begin(), all.end());
   if (static_cast<int>(all.size()) > keep) all.resize(keep);
   std::vector<ExtremityMap> maps;
   for (Ranked& r : all) maps.push_back({source_samples, std::move(r.target_of), r.distortion, r.scale});
@@ -598,7 +597,7 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
     curvature[i] = part_curvature.disagreement(dense[i].forward, scales[i]);
     if (with_covered_share) covered[i] = covered_share(source, target, target_vertex_areas, scales[i], dense[i]);
   };
-  const bool finish = settings.refine != RefineMethod::kNone && settings.rigidity.iterations > 0;
+  const bool finish = finishes_part_maps(settings);
   // Without finishing, every candidate competes on its dense map. With it, only the
   // finalists do, and the rest need only what picks the finalists: orientation and
   // curvature, on a map made on rough_map_vertices (covered share not measured: NaN).

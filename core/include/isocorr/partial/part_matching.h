@@ -7,7 +7,8 @@
 //    injective maps, ranked by a scale-free distortion on raw geodesics (kappa, source
 //    units per target unit, from each map's exact distances), since a part's geodesic
 //    diameter says nothing about its scale; kappa below sqrt(part area / target area) is
-//    impossible.
+//    impossible. When no map onto level 0 is consistent (the part has tips the target's
+//    level 0 lacks), the target's first 20 samples are offered instead.
 // 2. Screening: few extremities, or distances all lengthened by a cut, leave many maps
 //    equally consistent, so every map also grows the first levels' samples; the candidates
 //    are half the best by step 1 and half the best screened.
@@ -51,6 +52,12 @@ struct PartMapEvidence {
 // Costs kPartEvidenceSources fast-marching fields on the target per map.
 std::vector<PartMapEvidence> measure_part_maps(const PreprocessedShape& source, const PreprocessedShape& target,
                                                const std::vector<const std::vector<int>*>& forwards, int threads);
+
+// Whether part maps are finished (refined spectrally and polished) before they compete:
+// with the refinement on and a rigidity polish to give.
+inline bool finishes_part_maps(const MatchSettings& settings) {
+  return settings.refine != RefineMethod::kNone && settings.rigidity.iterations > 0;
+}
 
 // A part's map made by the complete pipeline, whose ZoomOut fitted a square C as if the
 // part were whole, refined as the part search's maps are: spectrally with a rectangular C
