@@ -30,7 +30,8 @@ constexpr double kLocality = 0.05;
 constexpr double kCoverEdges = 2.5;
 // Near-isometric meshes differ in area by a few per cent: the area bound on kappa allows it.
 constexpr double kAreaSlack = 0.95;
-// Target samples offered when the level-0 ones cannot be right: the first half-levels'.
+// Target samples offered when the level-0 ones cannot be right: the first half-levels'
+// (and the target's extremities: search_targets).
 constexpr int kFinerTargets = 20;
 // The least extremity-map distortion beyond which none of the level-0 maps is taken as
 // consistent. Measured on the part benchmark's 36 development cuts: 0.00-0.02 where the
@@ -40,6 +41,15 @@ constexpr double kConsistentExtremities = 0.05;
 // Extremity maps screened by matching the first levels' samples (schedule steps <= 2).
 constexpr int kScreenedMaps = 1000;
 constexpr int kScreenLastStep = 2;
+// A sample is matched only when at least this share of its distances to the pairs matched
+// before it are exact. The rest are upper bounds, which any image nearer than them meets at
+// no cost: a sample on the rim (all its distances bounds: the cut lies between it and every
+// other point) lands anywhere at cost 0 and misleads the samples matched after it (TOSCA
+// hi-res cat0's front half: rim samples sent half a diameter off, then its other samples
+// 0.1-0.4). The dense map places the rim from the pairs inside. Measured on the part
+// benchmark's development cuts: 31/36 right either way, Kim error of the right ones 0.049 ->
+// 0.038; a band of kRimBand left out instead: 30/36.
+constexpr double kMinExactShare = 0.5;
 // A sample's image lies within this many times its distance to its parent, around the
 // parent's image (the tracker's window_factor).
 constexpr float kWindowFactor = 2.0f;
@@ -64,18 +74,43 @@ constexpr int kFinalists = 6;
 // spectral sample (farthest-point order: spread over the part).
 constexpr int kOrientationSampleStride = 4;
 
-// Step 1: every injective map of the source's points to the first `target_count` target
-// samples, the `keep` of least scale-invariant distortion first; maps with kappa below
-// `min_scale` are dropped. The assignments are split by the first point's target, one
-// worker each, each keeping its own best `keep`: a widened search (20P5 = 1.9M maps) never
-// holds them all.
+// The widened targets: the first `count` samples and, for every extremity of the target,
+// the sample nearest it. Level 0 keeps only one extremity within its radius (0.2 of the
+// diameter), so a cat whose front paws are close in its pose has one of them outside level
+// 0 (TOSCA hi-res cat1: the 22nd sample; the front half's least extremity distortion 0.19
+// without it, 0.003 with it), and an extremity within a finer radius of a sample is no
+// sample itself (5K cat1: 0.013 from the 252nd); the part's extremities, away from the cut,
+// are tips of the whole and map to those. Not offered at level 0 already: a dog has 14
+// extremities (ears and toes), and the distractors cost it the cuts level 0 gets right.
+std::vector<int> search_targets(const PreprocessedShape& target, int count) {
+  std::vector<int> targets(count);
+  std::iota(targets.begin(), targets.end(), 0);
+  for (const int e : target.saliency().extremities) {
+    int nearest = 0;
+    for (int j = 1; j < target.num_samples(); ++j)
+      if (target.field(j, e) < target.field(nearest, e)) nearest = j;
+    if (std::find(targets.begin(), targets.end(), nearest) == targets.end()) targets.push_back(nearest);
+  }
+  return targets;
+}
+
+// Step 1: every injective map of the source's points to the target samples `targets`, the
+// `keep` of least scale-invariant distortion first; maps with kappa below `min_scale` are
+// dropped. The assignments are split by the first point's target, one worker each, each
+// keeping its own best `keep`: a widened search (22P5 = 3.2M maps) never holds them all.
 std::vector<ExtremityMap> rank_extremity_maps(const PartGeometry& part, const std::vector<int>& source_samples,
-                                              int target_count, double min_scale, int keep, int threads) {
+                                              const std::vector<int>& targets, double min_scale, int keep,
+                                              int threads) {
   const int m = static_cast<int>(source_samples.size());
+  const int target_count = static_cast<int>(targets.size());
   const PreprocessedShape& source = part.shape;
   const PreprocessedShape& target = part.target;
   std::vector<std::vector<double>> gs(m, std::vector<double>(m));
-  const Eigen::MatrixXd gt = sample_distances(target, target_count) * target.diameter();
+  Eigen::MatrixXd gt(target_count, target_count);
+  for (int i = 0; i < target_count; ++i)
+    for (int j = 0; j < target_count; ++j)  // symmetrised, as sample_distances: fast marching is not exactly
+      gt(i, j) = 0.5 * (target.sample_field(targets[i], targets[j]) + target.sample_field(targets[j], targets[i])) *
+                 target.diameter();
   std::vector<std::vector<char>> exact(m, std::vector<char>(m));
   for (int i = 0; i < m; ++i)
     for (int j = 0; j < m; ++j) {
@@ -87,8 +122,8 @@ std::vector<ExtremityMap> rank_extremity_maps(const PartGeometry& part, const st
   std::vector<std::vector<char>> target_exact(target_count, std::vector<char>(target_count));
   for (int i = 0; i < target_count; ++i)
     for (int j = 0; j < target_count; ++j)
-      target_exact[i][j] =
-          part.target_exact(target.sample_vertex(i), target.sample_vertex(j), static_cast<float>(gt(i, j)));
+      target_exact[i][j] = part.target_exact(target.sample_vertex(targets[i]), target.sample_vertex(targets[j]),
+                                             static_cast<float>(gt(i, j)));
 
   // A map's place: its distortion, then the order of enumeration (lexicographic in the
   // targets: the first target, then the order within its worker), so that ties come out as
@@ -141,7 +176,10 @@ std::vector<ExtremityMap> rank_extremity_maps(const PartGeometry& part, const st
   std::sort(all.begin(), all.end());
   if (static_cast<int>(all.size()) > keep) all.resize(keep);
   std::vector<ExtremityMap> maps;
-  for (Ranked& r : all) maps.push_back({source_samples, std::move(r.target_of), r.distortion, r.scale});
+  for (Ranked& r : all) {
+    for (int& t : r.target_of) t = targets[t];
+    maps.push_back({source_samples, std::move(r.target_of), r.distortion, r.scale});
+  }
   return maps;
 }
 
@@ -217,6 +255,10 @@ TrackedMap grow_sample_map(const PartGeometry& part, const ExtremityMap& start, 
     if (matched[s] || source.sample_step(s) > last_step) continue;
     control.check_cancelled();
     const int sv = source.sample_vertex(s);
+    int exact_terms = 0;
+    for (const SamplePair& p : tracked.pairs)
+      exact_terms += part.exact(p.source_sample, sv, part.distance(p.source_sample, sv));
+    if (exact_terms < kMinExactShare * tracked.pairs.size()) continue;
     // As in tracking: a new pair must keep the handedness of the pairs near it, or the
     // front of a body drifts onto its back, which geodesics to the extremities cannot tell.
     const HandednessGuard guard(source, target, tracked.pairs, sv, 0.05f);
@@ -451,22 +493,25 @@ std::vector<ExtremityMap> part_search_candidates(const PartGeometry& part, const
                      settings.part_extremities, offer_finer_targets);
   // Targets: the level-0 samples (extremities first), or the samples of the first
   // half-levels when the part's points are not all extremities.
-  const int target_count =
-      offer_finer_targets ? std::min(target.num_samples(), kFinerTargets) : target.num_level0_samples();
-  if (target_count < static_cast<int>(extremities.size()))
-    throw InputError("the target has fewer level-0 samples (" + std::to_string(target_count) +
+  const int finer_count = std::min(target.num_samples(), kFinerTargets);
+  std::vector<int> targets(offer_finer_targets ? finer_count : target.num_level0_samples());
+  std::iota(targets.begin(), targets.end(), 0);
+  if (targets.size() < extremities.size())
+    throw InputError("the target has fewer level-0 samples (" + std::to_string(targets.size()) +
                      ") than the part's extremities (" + std::to_string(extremities.size()) + ")");
   // The part is a piece of the target scaled by kappa, so its area is at most kappa^2 times
   // the target's: a smaller kappa cannot be right.
   const double min_scale = kAreaSlack * std::sqrt(source.area() / target.area());
   std::vector<ExtremityMap> all_maps =
-      rank_extremity_maps(part, extremities, target_count, min_scale, kScreenedMaps, threads);
+      rank_extremity_maps(part, extremities, targets, min_scale, kScreenedMaps, threads);
   // No map of the extremities to the target's level 0 is consistent: the part has tips the
   // target's level 0 lacks (a cat's front half finds its ears and nose apart, where the
-  // whole cat has one sample on its head), so the finer targets are offered too.
-  const int finer_count = std::min(target.num_samples(), kFinerTargets);
-  if (!all_maps.empty() && all_maps.front().distortion > kConsistentExtremities && target_count < finer_count)
-    all_maps = rank_extremity_maps(part, extremities, finer_count, min_scale, kScreenedMaps, threads);
+  // whole cat has one sample on its head), so the finer targets and the target's
+  // extremities are offered too.
+  if (!all_maps.empty() && all_maps.front().distortion > kConsistentExtremities &&
+      target.num_level0_samples() < finer_count && !offer_finer_targets)
+    all_maps =
+        rank_extremity_maps(part, extremities, search_targets(target, finer_count), min_scale, kScreenedMaps, threads);
   if (all_maps.empty())
     throw InputError("no extremity map is consistent with the part's area: is the source a part of the target?");
   for (const auto& map : all_maps) result.level0.push_back({map.target_samples, map.distortion});
