@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <random>
 #include <string>
 
@@ -20,6 +21,17 @@ namespace isocorr {
 namespace {
 
 double area_of(const TriangleMesh& mesh) { return total_area(mesh); }
+
+// Vertices on an edge that only one face uses.
+std::vector<char> boundary_vertices(const TriangleMesh& mesh) {
+  std::map<std::pair<int, int>, int> edge_faces;
+  for (const Face& f : mesh.faces)
+    for (int k = 0; k < 3; ++k) ++edge_faces[std::minmax(f[k], f[(k + 1) % 3])];
+  std::vector<char> on_boundary(mesh.vertices.size(), 0);
+  for (const auto& [edge, faces] : edge_faces)
+    if (faces == 1) on_boundary[edge.first] = on_boundary[edge.second] = 1;
+  return on_boundary;
+}
 
 TEST(PartialCut, KeepsTheAskedShareAndPointsBackToTheFullMesh) {
   const TriangleMesh full = limbed_blob(3);
@@ -132,11 +144,24 @@ void PartOf<Subdivisions>::expect_part_maps_onto_its_place(CutKind kind) {
   MatchSettings settings;
   settings.method = MatchMethod::kPart;
   settings.threads = 2;
-  const MatchResult result = match_meshes(part.mesh, copy_->mesh, settings);
+  MeshPairShapes shapes(part.mesh, copy_->mesh);
+  const MatchResult result = run_match(shapes, settings);
   ASSERT_EQ(result.output.forward.size(), part.mesh.vertices.size());
   ASSERT_EQ(result.output.reverse.size(), copy_->mesh.vertices.size());
   EXPECT_LT(mean_error(part, result.output.forward), 0.02) << cut_kind_name(kind);
   EXPECT_NEAR(result.part_scale, 1 / 2.5, 0.05) << cut_kind_name(kind);
+
+  // No candidate matched a sample on the cut's rim: its distances are all upper bounds,
+  // which any image nearer than them meets at no cost.
+  const auto source = shapes.shape(ShapeRole::kSource, settings.preprocess, {});
+  const std::vector<char> rim = boundary_vertices(source->mesh());
+  ASSERT_GT(std::count(rim.begin(), rim.end(), 1), 0);
+  int rim_samples = 0;
+  for (int i = 0; i < source->num_samples(); ++i) rim_samples += rim[source->sample_vertex(i)];
+  ASSERT_GT(rim_samples, 0) << cut_kind_name(kind);
+  for (const TrackedMap& candidate : result.tracked)
+    for (const SamplePair& pair : candidate.pairs)
+      ASSERT_FALSE(rim[source->sample_vertex(pair.source_sample)]) << cut_kind_name(kind) << " sample " << pair.source_sample;
 
   // Target vertices whose preimage was kept have a counterpart; those whose preimage lay
   // well inside the removed region (beyond 5% of the diameter from what was kept) do not.
