@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include <numeric>
+
 #include "isocorr/matching/orientation.h"
 #include "isocorr/partial/part_matching.h"
 #include "isocorr/refinement/refinement.h"
@@ -10,11 +12,18 @@
 
 namespace isocorr {
 Eigen::MatrixXd sample_distances(const PreprocessedShape& shape, int count) {
+  std::vector<int> first(count);
+  std::iota(first.begin(), first.end(), 0);
+  return sample_distances(shape, first);
+}
+
+Eigen::MatrixXd sample_distances(const PreprocessedShape& shape, const std::vector<int>& samples) {
+  const int count = static_cast<int>(samples.size());
   Eigen::MatrixXd d(count, count);
   for (int i = 0; i < count; ++i)
     for (int j = 0; j < count; ++j)
       // Symmetrise: fast marching is not exactly symmetric.
-      d(i, j) = 0.5 * (shape.sample_field(i, j) + shape.sample_field(j, i));
+      d(i, j) = 0.5 * (shape.sample_field(samples[i], samples[j]) + shape.sample_field(samples[j], samples[i]));
   return d;
 }
 

@@ -106,11 +106,7 @@ std::vector<ExtremityMap> rank_extremity_maps(const PartGeometry& part, const st
   const PreprocessedShape& source = part.shape;
   const PreprocessedShape& target = part.target;
   std::vector<std::vector<double>> gs(m, std::vector<double>(m));
-  Eigen::MatrixXd gt(target_count, target_count);
-  for (int i = 0; i < target_count; ++i)
-    for (int j = 0; j < target_count; ++j)  // symmetrised, as sample_distances: fast marching is not exactly
-      gt(i, j) = 0.5 * (target.sample_field(targets[i], targets[j]) + target.sample_field(targets[j], targets[i])) *
-                 target.diameter();
+  const Eigen::MatrixXd gt = sample_distances(target, targets) * target.diameter();
   std::vector<std::vector<char>> exact(m, std::vector<char>(m));
   for (int i = 0; i < m; ++i)
     for (int j = 0; j < m; ++j) {
@@ -184,15 +180,6 @@ std::vector<ExtremityMap> rank_extremity_maps(const PartGeometry& part, const st
 }
 
 // Trimmed mean of per-anchor mismatches: the largest kTrimmedShare are left out.
-float trimmed_mean(std::vector<float>& terms) {
-  if (terms.empty()) return kUnreached;
-  const size_t kept = std::max<size_t>(1, static_cast<size_t>(std::ceil(terms.size() * (1 - kTrimmedShare))));
-  std::nth_element(terms.begin(), terms.begin() + (kept - 1), terms.end());
-  double sum = 0;
-  for (size_t i = 0; i < kept; ++i) sum += terms[i];
-  return static_cast<float>(sum / kept);
-}
-
 // The cost of a sample's image in the growth: the mean of its exact terms, the largest
 // kTrimmedShare of them left out, and of its bound terms (distances the cut may have
 // lengthened), all kept. A bound term is 0 unless the image lies farther than the bound
@@ -211,6 +198,9 @@ float trimmed_mean_with_bounds(std::vector<float>& exact_terms, double bound_sum
   for (size_t i = 0; i < kept; ++i) sum += exact_terms[i];
   return static_cast<float>(sum / (kept + bounds));
 }
+
+// Trimmed mean of per-anchor mismatches: the largest kTrimmedShare are left out.
+float trimmed_mean(std::vector<float>& terms) { return trimmed_mean_with_bounds(terms, 0, 0); }
 
 // Calls visit(source distance, raw target distance, source exact, target exact) for every
 // pair of pairs of a sample map.
@@ -269,15 +259,23 @@ TrackedMap grow_sample_map(const PartGeometry& part, const ExtremityMap& start, 
     tracked.pairs.push_back({start.source_samples[i], start.target_samples[i], 0.0f, -1});
     matched[start.source_samples[i]] = 1;
   }
-  std::vector<float> terms;
+  std::vector<float> terms, gs;
+  std::vector<char> exact;
   for (int s = 0; s < source.num_samples(); ++s) {
     if (matched[s] || source.sample_step(s) > last_step) continue;
     control.check_cancelled();
     const int sv = source.sample_vertex(s);
+    // The source side of every term, the same for each image tried.
+    const size_t count = tracked.pairs.size();
+    gs.resize(count);
+    exact.resize(count);
     int exact_terms = 0;
-    for (const SamplePair& p : tracked.pairs)
-      exact_terms += part.exact(p.source_sample, sv, part.distance(p.source_sample, sv));
-    if (exact_terms < kMinExactShare * tracked.pairs.size()) continue;
+    for (size_t a = 0; a < count; ++a) {
+      gs[a] = part.distance(tracked.pairs[a].source_sample, sv);
+      exact[a] = part.exact(tracked.pairs[a].source_sample, sv, gs[a]);
+      exact_terms += exact[a];
+    }
+    if (exact_terms < kMinExactShare * count) continue;
     // As in tracking: a new pair must keep the handedness of the pairs near it, or the
     // front of a body drifts onto its back, which geodesics to the extremities cannot tell.
     const HandednessGuard guard(source, target, tracked.pairs, sv, 0.05f);
@@ -295,13 +293,12 @@ TrackedMap grow_sample_map(const PartGeometry& part, const ExtremityMap& start, 
       terms.clear();
       double bound_sum = 0;
       int bounds = 0;
-      for (const SamplePair& p : tracked.pairs) {
-        const float gs = part.distance(p.source_sample, sv);
+      for (size_t a = 0; a < count; ++a) {
+        const SamplePair& p = tracked.pairs[a];
         const float gt = target.field(p.target_sample, tv) * target_diameter;
-        const bool exact = part.exact(p.source_sample, sv, gs);
         const float term =
-            mismatch(gs, gt * scale, exact, part.target_exact(target.sample_vertex(p.target_sample), tv, gt));
-        if (exact) terms.push_back(term);
+            mismatch(gs[a], gt * scale, exact[a], part.target_exact(target.sample_vertex(p.target_sample), tv, gt));
+        if (exact[a]) terms.push_back(term);
         else bound_sum += term, ++bounds;
       }
       const float cost = trimmed_mean_with_bounds(terms, bound_sum, bounds);

@@ -70,6 +70,8 @@ struct MatchResult {
 // Normalised geodesic distances between the first `count` samples of a shape, symmetrised
 // (fast marching is not exactly symmetric): the level-0 search's input.
 Eigen::MatrixXd sample_distances(const PreprocessedShape& shape, int count);
+// The same between the listed samples, in their order.
+Eigen::MatrixXd sample_distances(const PreprocessedShape& shape, const std::vector<int>& samples);
 
 // The choice among tracked maps: those whose orientation agreement is within
 // settings.orientation_margin of the best compete on D_iso - weight * orientation; returns
