@@ -4,12 +4,14 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.h"
+#include "isocorr/util/huge_page_malloc.h"
 #ifdef ISOCORR_WITH_SERVICE
 #include "remote/connection.h"
 #include "remote/remote_commands.h"
 #endif
 
 int main(int argc, char** argv) {
+  isocorr::restart_with_huge_page_malloc(argv);
   // Logs and progress on stderr, so stdout carries only results (maps, --json output).
   spdlog::set_default_logger(spdlog::stderr_color_mt("isocorr"));
   spdlog::set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%^%l%$] %v");  // spdlog's default, without the logger name
@@ -32,7 +34,10 @@ int main(int argc, char** argv) {
   isocorr::cli::register_eval_command(app, exit_code);
   isocorr::cli::register_render_command(app, exit_code);
   isocorr::cli::register_cut_command(app, exit_code);
-  app.parse_complete_callback([&] { spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info); });
+  app.parse_complete_callback([&] {
+    spdlog::set_level(verbose ? spdlog::level::debug : spdlog::level::info);
+    spdlog::debug("GLIBC_TUNABLES={}", isocorr::malloc_tunables());
+  });
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -24,6 +24,7 @@
 #include "server_options.h"
 #include "store.h"
 #include "storage/durable_file.h"
+#include "isocorr/util/huge_page_malloc.h"
 
 namespace isocorr::server {
 namespace {
@@ -106,6 +107,7 @@ int run(const ServerOptions& options) {
   spdlog::info("isocorr-server listening on {}:{} ({}, {}), data in {}, {} worker(s)", host, port,
                options.tls_cert.empty() ? "plaintext" : "TLS", auth.enabled() ? "bearer token" : "no auth",
                options.store.empty() ? options.data_dir : "the shared PostgreSQL store", options.threads);
+  spdlog::info("GLIBC_TUNABLES={}", malloc_tunables());
   // Absolute, so that a bare file name has a directory to sync.
   if (!options.port_file.empty())
     write_file_durably(options.port_file, std::to_string(port) + "\n");
@@ -127,6 +129,7 @@ int run(const ServerOptions& options) {
 }  // namespace isocorr::server
 
 int main(int argc, char** argv) {
+  isocorr::restart_with_huge_page_malloc(argv);
   isocorr::server::ServerOptions options;
   CLI::App app{"isocorr-server: the isocorr.v1 gRPC service (meshes, matching jobs, results)"};
   isocorr::server::add_server_flags(app, options);

@@ -27,6 +27,7 @@
 #include "isocorr/matching/pipeline.h"
 #include "isocorr/mesh/mesh_io.h"
 #include "isocorr/refinement/refinement.h"
+#include "isocorr/util/huge_page_malloc.h"
 #include "settings_flags.h"
 
 namespace {
@@ -271,6 +272,7 @@ void print_by_mesh(const std::vector<std::pair<std::string, std::string>>& names
 }  // namespace
 
 int main(int argc, char** argv) {
+  isocorr::restart_with_huge_page_malloc(argv);  // as isocorr and isocorr-server run
   CLI::App app{"isocorr-bench: accuracy and speed on the benchmark datasets' pairs.tsv lists"};
   std::vector<std::string> datasets;
   std::string data_root = "../shared/data", protocol;

@@ -25,6 +25,7 @@
 #include "isocorr/partial/partial_cut.h"
 #include "isocorr/partial/partial_refinement.h"
 #include "isocorr/util/kd_tree.h"
+#include "isocorr/util/huge_page_malloc.h"
 #include "settings_flags.h"
 
 namespace {
@@ -74,6 +75,7 @@ void print_tally(const char* name, const Tally& t) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  isocorr::restart_with_huge_page_malloc(argv);  // as isocorr and isocorr-server run
   CLI::App app{"isocorr-bench-partial: part matching on shapes cut from the benchmark meshes"};
   std::vector<std::string> datasets;
   std::string data_root = "../shared/data";

@@ -147,6 +147,20 @@ TEST_F(MatchCommand, BadMeshIsExitCodeTwoWithAReason) {
   EXPECT_NE(match.output.find("bad.off"), std::string::npos) << match.output;
 }
 
+// The heap is asked for huge pages (huge_page_malloc.h) unless the user set GLIBC_TUNABLES,
+// even to nothing. The mesh is malformed: the command ends quickly, after its log's start.
+TEST_F(MatchCommand, RunsWithHugePageMallocUnlessTheUserSetsTunables) {
+  const fs::path bad = *dir_ / "bad_tunables.off";
+  std::ofstream(bad) << "OFF\n0 0 0\n";
+  const std::string args = " -v match " + bad.string() + " " + bad.string() + " -o " + (*dir_ / "x.map").string();
+  const ShellRun by_default = run_shell("env -u GLIBC_TUNABLES " + cli_ + args);
+  EXPECT_EQ(by_default.exit_code, 2);
+  EXPECT_NE(by_default.output.find("GLIBC_TUNABLES=glibc.malloc.hugetlb=1\n"), std::string::npos) << by_default.output;
+  const ShellRun opted_out = run_shell("env GLIBC_TUNABLES= " + cli_ + args);
+  EXPECT_EQ(opted_out.exit_code, 2);
+  EXPECT_NE(opted_out.output.find("GLIBC_TUNABLES=\n"), std::string::npos) << opted_out.output;
+}
+
 TEST_F(MatchCommand, HelpListsTheSettings) {
   const ShellRun help = run_shell(cli_ + " match --help");
   EXPECT_EQ(help.exit_code, 0);
