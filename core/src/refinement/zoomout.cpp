@@ -263,4 +263,60 @@ void zoomout_polish(const SpectralSide& source, const SpectralSide& target, cons
   map = zoomout_dense(source, target, sampled, options, control);
 }
 
+bool zoomout_curvature_polish(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options,
+                              SpectralMap& map, const JobControl& control) {
+  const int k = static_cast<int>(map.c.cols());
+  if (!(options.curvature_weight > 0) || k == 0 || !source.curvature || !target.curvature ||
+      source.curvature->cols() == 0 || source.curvature->cols() != target.curvature->cols())
+    return false;
+  const std::vector<int>& samples = *source.samples;
+  const int scales = static_cast<int>(source.curvature->cols());
+  // Both shapes' columns divided by the source's root mean square over its samples (evenly
+  // spread: an area-weighted mean), so that the two stay comparable.
+  Eigen::RowVectorXf root_mean_square = Eigen::RowVectorXf::Zero(scales);
+  for (const int v : samples) root_mean_square += source.curvature->row(v).cwiseAbs2();
+  root_mean_square = (root_mean_square / static_cast<float>(samples.size())).cwiseSqrt().cwiseMax(1e-12f);
+  const Eigen::MatrixXf h_s = source.curvature->array().rowwise() / root_mean_square.array();
+  const Eigen::MatrixXf h_t = target.curvature->array().rowwise() / root_mean_square.array();
+  const float weight = static_cast<float>(options.curvature_weight * k / scales);
+
+  const RowMatrix& phi_t = *target.basis;
+  const MeshTopology& topology = *target.topology;
+  const int threads = resolve_thread_count(options.threads);
+  FunctionalMapFit fit;
+  fit.threads = threads;
+  // The image of source vertex v whose pulled row is `query`: descent from `start` on the
+  // spectral distance plus the weighted curvature difference.
+  auto sharpened_image = [&](const float* query, int v, int start) {
+    const Eigen::Map<const Eigen::VectorXf> q(query, k);
+    auto cost = [&](int w) {
+      return (Eigen::Map<const Eigen::VectorXf>(phi_t.row(w).data(), k) - q).squaredNorm() +
+             weight * (h_s.row(v) - h_t.row(w)).squaredNorm();
+    };
+    float reached = 0;
+    return descend_to_minimum(topology, start, cost, reached);
+  };
+  const RowMatrix source_rows = gather_rows(*source.basis, samples, k);
+  std::vector<int> images(samples.size());
+  for (size_t i = 0; i < samples.size(); ++i) images[i] = map.image[samples[i]];
+  for (int iteration = 0; iteration < options.curvature_iterations; ++iteration) {
+    control.check_cancelled();
+    const RowMatrix queries = source_rows * fit_functional_map(source_rows, gather_rows(phi_t, images, k), fit);
+    parallel_for(static_cast<int>(images.size()), threads,
+                 [&](int i, int) { images[i] = sharpened_image(queries.row(i).data(), samples[i], images[i]); });
+  }
+  control.check_cancelled();
+  map.c = fit_functional_map(source_rows, gather_rows(phi_t, images, k), fit);
+  const RowMatrix all_rows = source.basis->leftCols(k);
+  const RowMatrix pulled = times(all_rows, map.c, threads);
+  map.residual.resize(map.image.size());
+  parallel_for(static_cast<int>(map.image.size()), threads, [&](int v, int) {
+    map.image[v] = sharpened_image(pulled.row(v).data(), v, map.image[v]);
+    map.residual[v] = (pulled.row(v) - phi_t.row(map.image[v]).head(k)).norm();
+  });
+  control.check_cancelled();
+  recover_reverse(source, target, pulled, phi_t.leftCols(k), threads, map);
+  return true;
+}
+
 }  // namespace isocorr

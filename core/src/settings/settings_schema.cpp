@@ -152,6 +152,13 @@ std::vector<SettingField> build_schema() {
           "spectral refinement: weight of the Laplacian commutativity term in each functional-map fit (0 = none; "
           "full-shape matching only: a part's spectrum is not the whole's)",
           [](auto& s) -> auto& { return s.zoomout.commutativity; }),
+      row("zoomout_curvature_weight", kMatch, closed(0, 1000),
+          "spectral refinement: weight of the smoothed mean curvature in the chosen map's last refits, which "
+          "correct slides along the surface that intrinsic cues cannot see (0 = none)",
+          [](auto& s) -> auto& { return s.zoomout.curvature_weight; }),
+      row("zoomout_curvature_iterations", kMatch, closed(0, 100),
+          "spectral refinement: refits on the samples with the curvature term before its refit on every vertex",
+          [](auto& s) -> auto& { return s.zoomout.curvature_iterations; }),
       row("outlier_repair", kMatch, {},
           "each refined map's vertices that break geodesic distances to its anchors far more than the rest are placed again",
           [](auto& s) -> auto& { return s.outlier_repair; }),
