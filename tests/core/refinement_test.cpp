@@ -439,16 +439,17 @@ TEST(RigidityPolish, PullsBackASmoothTwist) {
   EXPECT_LT(twist.mean_error(twist.map.image), 0.5 * before);
 }
 
-// The curvature polish refits at the map's basis size with the curvature term: a 10-degree
-// twist (a smooth slide along the surface) is pulled back most of the way, the true map
-// stays true, and without a weight nothing is done.
+// The polish with the curvature term and no basis growth (polish_k_end = the map's size):
+// a 10-degree twist (a smooth slide along the surface) is pulled back most of the way, the
+// true map stays true, and without a weight nothing is done.
 TEST(ZoomOut, CurvaturePolishPullsBackASmoothTwistAndKeepsTheTruth) {
   TwistedCopy twist(10);
   ZoomOutOptions options;
   options.threads = 2;
+  options.polish_k_end = 60;
   twist.map.c = Eigen::MatrixXf::Identity(60, 60);  // the basis size it refits at
   const double before = twist.mean_error(twist.map.image);
-  EXPECT_TRUE(zoomout_curvature_polish(side_of(*twist.source), side_of(*twist.target), options, twist.map));
+  EXPECT_TRUE(zoomout_polish(side_of(*twist.source), side_of(*twist.target), options, twist.map));
   EXPECT_LT(twist.mean_error(twist.map.image), 0.3 * before);
   EXPECT_EQ(twist.map.c.cols(), 60);
   EXPECT_GE(exact_and_near(twist.map.reverse_image, twist.inverse, twist.source->geodesics().topology()).second, 0.99);
@@ -457,12 +458,12 @@ TEST(ZoomOut, CurvaturePolishPullsBackASmoothTwistAndKeepsTheTruth) {
   truth.image = twist.copy.permutation;
   truth.reverse_image = twist.inverse;
   truth.c = Eigen::MatrixXf::Identity(60, 60);
-  ASSERT_TRUE(zoomout_curvature_polish(side_of(*twist.source), side_of(*twist.target), options, truth));
+  ASSERT_TRUE(zoomout_polish(side_of(*twist.source), side_of(*twist.target), options, truth));
   EXPECT_GE(exact_and_near(truth.image, twist.copy.permutation, twist.target->geodesics().topology()).first, 0.99);
 
   options.curvature_weight = 0;
   const std::vector<int> kept = truth.image;
-  EXPECT_FALSE(zoomout_curvature_polish(side_of(*twist.source), side_of(*twist.target), options, truth));
+  EXPECT_FALSE(zoomout_polish(side_of(*twist.source), side_of(*twist.target), options, truth));
   EXPECT_EQ(truth.image, kept);
 }
 

@@ -73,17 +73,13 @@ OutlierRepair finish_map(const PreprocessedShape& source, const PreprocessedShap
   return repair;
 }
 
-// The optional spectral polish of a finished map (zoomout_polish_k_end), then the optional
-// curvature polish: each starts from the map's functional map and leaves a spectral map,
-// so `finish` runs again when either ran.
+// The optional spectral polish of a finished map (zoomout_polish_k_end and the curvature
+// term): it starts from the map's functional map and leaves a spectral map, so `finish`
+// runs again when it ran.
 template <class Finish>
 void spectral_polish(const SpectralSide& source_side, const SpectralSide& target_side, const ZoomOutOptions& options,
                      SpectralMap& map, const JobControl& control, const Finish& finish) {
-  const int basis_before = static_cast<int>(map.c.cols());
-  zoomout_polish(source_side, target_side, options, map, control);
-  const bool grown = static_cast<int>(map.c.cols()) != basis_before;
-  const bool sharpened = zoomout_curvature_polish(source_side, target_side, options, map, control);
-  if (grown || sharpened) finish();
+  if (zoomout_polish(source_side, target_side, options, map, control)) finish();
 }
 
 // refine_from_pairs with the pair's rigidity system already built (its three sparse

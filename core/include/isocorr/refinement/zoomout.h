@@ -48,7 +48,7 @@ struct ZoomOutOptions {
   // 5K pair; michael0 -> michael1 17.3 -> 22.4 s at first, 18.8-20.5 s once the outlier
   // repair's search was made cheaper (README).
   double commutativity = 10;
-  // The curvature polish (zoomout_curvature_polish), after the spectral polish: weight of
+  // The curvature term of the polish (zoomout_polish), after the basis growth: weight of
   // the extrinsic term (0 = off) and its iterations on the samples. See that function for
   // why and what it gains.
   double curvature_weight = 3;
@@ -117,22 +117,20 @@ SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
 // the map's images of the source samples, the basis grown from the map's size by
 // options.polish_k_step up to options.polish_k_end (at most the bases' size), then
 // zoomout_dense at that size (forward and reverse maps from the last C).
-void zoomout_polish(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options,
+//
+// With options.curvature_weight > 0 and both sides' curvature, the curvature polish follows
+// at that size, in place of zoomout_dense. Why: on scans of people the truth is no more
+// isometric than the maps ZoomOut converges to (SCAPE: mean geodesic distortion of the
+// ground truth 0.009-0.029 of the diameter, of our maps 0.008-0.028), so intrinsic refits
+// leave smooth slides of a centimetre or two along the body; local shape seen from outside
+// (smoothed mean curvature: a knee, a shoulder blade, a nose) does not slide with them. So
+// the refits go on with the pointwise cost |Phi_S C - Phi_T|^2 + w |h_S - h_T|^2, h the
+// curvature columns divided by their root mean square over the source's samples and
+// w = curvature_weight * k / scales (each of the k spectral coordinates and each
+// normalised curvature has unit mean square): curvature_iterations refits on the samples,
+// then every vertex once, each image moved by descent. Returns whether the map changed
+// (false: no growth asked and no curvature term).
+bool zoomout_polish(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options,
                     SpectralMap& map, const JobControl& control = {});
-
-// Sharpens a finished spectral map with what intrinsic cues cannot see. On scans of people
-// the truth is no more isometric than the maps ZoomOut converges to (SCAPE: mean geodesic
-// distortion of the ground truth 0.009-0.029 of the diameter, of our maps 0.008-0.028), so
-// intrinsic refits leave smooth slides of a centimetre or two along the body. Local shape
-// seen from outside (smoothed mean curvature: a knee, a shoulder blade, a nose) does not
-// slide with them. So ZoomOut's refit continues at the map's basis size with the pointwise
-// step's cost extended to |Phi_S C - Phi_T|^2 + w |h_S - h_T|^2, h the curvature columns
-// divided by their root mean square over the source's samples and w = curvature_weight *
-// k / scales (each of the k spectral coordinates and each normalised curvature has unit
-// mean square). curvature_iterations refits on the samples, then every vertex once, each
-// image moved by descent from where it is; no commutativity term (the map is right, C is
-// well determined). Returns whether it ran (a weight, a basis and both curvatures given).
-bool zoomout_curvature_polish(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options,
-                              SpectralMap& map, const JobControl& control = {});
 
 }  // namespace isocorr
