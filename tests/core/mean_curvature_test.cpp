@@ -1,5 +1,6 @@
-// Smoothed mean curvature: known values on a sphere, invariance to rigid motion, scale and
-// numbering, and the disagreement along right and wrong maps.
+// Smoothed mean and Gaussian curvature: known values on a sphere and a plane, Gauss-Bonnet,
+// invariance to rigid motion, scale and numbering, and the disagreement along right and
+// wrong maps.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +9,7 @@
 
 #include "isocorr/mesh/procedural_meshes.h"
 #include "isocorr/shape/mean_curvature.h"
+#include "isocorr/spectral/laplace_beltrami.h"
 
 namespace isocorr {
 namespace {
@@ -53,6 +55,66 @@ TEST(MeanCurvature, IsTheSameOnARotatedScaledRenumberedCopy) {
   EXPECT_LT(largest_difference, 1e-3 * original.cwiseAbs().maxCoeff());
   // The blob's limbs make it far from a sphere: the values vary.
   EXPECT_GT(original.col(0).maxCoeff() - original.col(0).minCoeff(), 1.0);
+}
+
+// K = 1 / r^2 and area 4 pi r^2: K area = 4 pi at every vertex and every scale. The angle
+// defect is exact in total (Gauss-Bonnet) but uneven between the icosphere's five- and
+// six-valent vertices; smoothing evens it out.
+TEST(GaussianCurvature, IsFourPiOnASphere) {
+  const TriangleMesh sphere = icosphere(4);
+  const SmoothedCurvature curvature = smoothed_mean_and_gaussian_curvature(sphere, vertex_normals(sphere));
+  ASSERT_EQ(curvature.gaussian.rows(), sphere.num_vertices());
+  ASSERT_EQ(curvature.gaussian.cols(), static_cast<int>(kCurvatureScales.size()));
+  const double expected = 4 * M_PI;
+  for (int j = 0; j < curvature.gaussian.cols(); ++j)
+    EXPECT_NEAR(curvature.gaussian.col(j).mean(), expected, 0.005 * expected);
+  EXPECT_LT((curvature.gaussian.col(2).array() - expected).abs().maxCoeff(), 0.05 * expected);
+  // The mean curvature is the same as smoothed_mean_curvature's.
+  EXPECT_EQ((curvature.mean - smoothed_mean_curvature(sphere, vertex_normals(sphere))).cwiseAbs().maxCoeff(), 0.f);
+}
+
+// Gauss-Bonnet: the total curvature of a closed genus-0 surface is 4 pi whatever its shape,
+// and the smoothing keeps totals (its heat step conserves the mass-weighted sum).
+TEST(GaussianCurvature, TotalsFourPiOnAClosedGenusZeroSurface) {
+  const TriangleMesh blob = limbed_blob(3);
+  const SmoothedCurvature curvature = smoothed_mean_and_gaussian_curvature(blob, vertex_normals(blob));
+  const Eigen::VectorXd mass = lumped_mass(blob);
+  for (int j = 0; j < curvature.gaussian.cols(); ++j) {
+    const double mean = mass.dot(curvature.gaussian.col(j).cast<double>()) / mass.sum();
+    EXPECT_NEAR(mean, 4 * M_PI, 1e-4 * 4 * M_PI);
+  }
+  // Limbs: positive at their tips, negative where they join the body.
+  EXPECT_GT(curvature.gaussian.col(0).maxCoeff(), 4 * M_PI);
+  EXPECT_LT(curvature.gaussian.col(0).minCoeff(), 0.f);
+}
+
+// A flat sheet has none inside, and its straight edges none either (pi less the two corner
+// angles of a straight boundary vertex is 0): only the four corners carry curvature, and the
+// centre, far from them at every scale, stays at zero.
+TEST(GaussianCurvature, IsZeroInsideAFlatSheet) {
+  const TriangleMesh sheet = grid(20, 20);
+  const SmoothedCurvature curvature = smoothed_mean_and_gaussian_curvature(sheet, vertex_normals(sheet));
+  int centre = 0;
+  Vec3 middle = Vec3::Zero();
+  for (const Vec3& p : sheet.vertices) middle += p / sheet.num_vertices();
+  for (int v = 0; v < sheet.num_vertices(); ++v)
+    if ((sheet.vertices[v] - middle).norm() < (sheet.vertices[centre] - middle).norm()) centre = v;
+  for (int j = 0; j < curvature.gaussian.cols(); ++j) EXPECT_NEAR(curvature.gaussian(centre, j), 0.f, 1e-4);
+  EXPECT_GT(curvature.gaussian.col(0).maxCoeff(), 1.f);  // at the corners
+}
+
+TEST(GaussianCurvature, IsTheSameOnARotatedScaledRenumberedCopy) {
+  const TriangleMesh blob = limbed_blob(3);
+  const RenumberedCopy copy = rotated_scaled_renumbered(blob, 0.4, 11);
+  const Eigen::MatrixXf original =
+      smoothed_mean_and_gaussian_curvature(blob, vertex_normals(blob)).gaussian;
+  const Eigen::MatrixXf copied =
+      smoothed_mean_and_gaussian_curvature(copy.mesh, vertex_normals(copy.mesh)).gaussian;
+  double largest_difference = 0;
+  for (int v = 0; v < blob.num_vertices(); ++v)
+    largest_difference = std::max<double>(
+        largest_difference, (original.row(v) - copied.row(copy.permutation[v])).cwiseAbs().maxCoeff());
+  EXPECT_LT(largest_difference, 1e-3 * original.cwiseAbs().maxCoeff());
 }
 
 TEST(MeanCurvature, DisagreementIsZeroAlongTheTrueMapOnly) {

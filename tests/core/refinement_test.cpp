@@ -12,6 +12,7 @@
 #include "isocorr/partial/partial_cut.h"
 #include "isocorr/refinement/dense_choice.h"
 #include "isocorr/refinement/final_polish.h"
+#include "isocorr/refinement/candidate_screening.h"
 #include "isocorr/refinement/outlier_repair.h"
 #include "isocorr/refinement/refinement.h"
 #include "isocorr/refinement/rigidity_polish.h"
@@ -24,10 +25,7 @@ namespace {
 
 using test_support::spectral_options;
 
-SpectralSide side_of(const PreprocessedShape& shape) {
-  return {&shape.spectral_basis(), &shape.geodesics().topology(), &shape.spectral_samples(),
-          &shape.spectral_eigenvalues(), &shape.smoothed_curvature()};
-}
+SpectralSide side_of(const PreprocessedShape& shape) { return spectral_side(shape); }
 
 // Fraction of `image` equal to `truth`, and of the rest within one ring of it.
 std::pair<double, double> exact_and_near(const std::vector<int>& image, const std::vector<int>& truth,

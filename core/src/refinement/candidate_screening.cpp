@@ -13,8 +13,9 @@
 namespace isocorr {
 
 SpectralSide spectral_side(const PreprocessedShape& shape) {
-  return SpectralSide{&shape.spectral_basis(), &shape.geodesics().topology(), &shape.spectral_samples(),
-                      &shape.spectral_eigenvalues(), &shape.smoothed_curvature()};
+  return SpectralSide{&shape.spectral_basis(),      &shape.geodesics().topology(),
+                      &shape.spectral_samples(),    &shape.spectral_eigenvalues(),
+                      &shape.smoothed_curvature(), &shape.smoothed_gaussian_curvature()};
 }
 
 std::vector<int> spread_sample_map(const std::vector<int>& nearest_sample, const std::vector<int>& sample_images) {

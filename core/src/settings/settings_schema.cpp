@@ -153,7 +153,7 @@ std::vector<SettingField> build_schema() {
           "full-shape matching only: a part's spectrum is not the whole's)",
           [](auto& s) -> auto& { return s.zoomout.commutativity; }),
       row("zoomout_curvature_weight", kMatch, closed(0, 1000),
-          "spectral refinement: weight of the smoothed mean curvature in the chosen map's last refits, which "
+          "spectral refinement: weight of the smoothed mean and Gaussian curvature in the chosen map's last refits, which "
           "correct slides along the surface that intrinsic cues cannot see (0 = none)",
           [](auto& s) -> auto& { return s.zoomout.curvature_weight; }),
       row("zoomout_curvature_iterations", kMatch, closed(0, 100),

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <future>
+#include <utility>
 
 #include "isocorr/sampling/salient_sampling.h"
 #include "isocorr/sampling/vertex_spreading.h"
@@ -50,7 +51,9 @@ std::shared_ptr<const PreprocessedShape> PreprocessedShape::build(const Triangle
             ? compute_reduced_laplace_basis(mesh, options.spectral_basis, options.spectral_cells, solver)
             : compute_laplace_basis(mesh, options.spectral_basis, solver);
     control.check_cancelled();
-    shape->smoothed_curvature_ = smoothed_mean_curvature(mesh, shape->normals_);
+    SmoothedCurvature curvature = smoothed_mean_and_gaussian_curvature(mesh, shape->normals_);
+    shape->smoothed_curvature_ = std::move(curvature.mean);
+    shape->smoothed_gaussian_curvature_ = std::move(curvature.gaussian);
     return basis;
   };
   std::future<LaplaceBasis> basis;
@@ -121,8 +124,9 @@ int PreprocessedShape::num_level0_samples() const {
 
 size_t PreprocessedShape::memory_bytes() const {
   const size_t n = mesh().num_vertices();
-  return (fields_.size() + sample_fields_.size()) * sizeof(float) + (spectral_basis_.size() + smoothed_curvature_.size()) * sizeof(float) +
-         spectral_samples_.size() * sizeof(int) + n * (sizeof(Vec3) * 2 + sizeof(float) + 3 * sizeof(int)) +
+  const size_t floats = fields_.size() + sample_fields_.size() + spectral_basis_.size() + smoothed_curvature_.size() +
+                        smoothed_gaussian_curvature_.size();
+  return floats * sizeof(float) + spectral_samples_.size() * sizeof(int) + n * (sizeof(Vec3) * 2 + sizeof(float) + 3 * sizeof(int)) +
          mesh().faces.size() * sizeof(Face) * 3;
 }
 

@@ -70,6 +70,8 @@ struct SpectralSide {
   const Eigen::VectorXf* eigenvalues = nullptr;  // of the basis; without them no commutativity term
   // Smoothed mean curvature (V x scales, mean_curvature.h); without it no curvature polish.
   const Eigen::MatrixXf* curvature = nullptr;
+  // Smoothed Gaussian curvature, the same scales; joins the polish's term when both sides have it.
+  const Eigen::MatrixXf* gaussian_curvature = nullptr;
 };
 
 struct SpectralMap {
@@ -123,11 +125,13 @@ SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
 // isometric than the maps ZoomOut converges to (SCAPE: mean geodesic distortion of the
 // ground truth 0.009-0.029 of the diameter, of our maps 0.008-0.028), so intrinsic refits
 // leave smooth slides of a centimetre or two along the body; local shape seen from outside
-// (smoothed mean curvature: a knee, a shoulder blade, a nose) does not slide with them. So
+// (smoothed curvature: a knee, a shoulder blade, a nose) does not slide with them. So
 // the refits go on with the pointwise cost |Phi_S C - Phi_T|^2 + w |h_S - h_T|^2, h the
-// curvature columns divided by their root mean square over the source's samples and
-// w = curvature_weight * k / scales (each of the k spectral coordinates and each
-// normalised curvature has unit mean square): curvature_iterations refits on the samples,
+// mean and (when both sides have it) Gaussian curvature columns, each divided by its root
+// mean square over the source's samples, and w = curvature_weight * k / scales, scales the
+// number of smoothing scales (each of the k spectral coordinates and each normalised
+// curvature has unit mean square; the Gaussian columns add to the mean ones' weight, not
+// share it): curvature_iterations refits on the samples,
 // then every vertex once, each image moved by descent. Returns whether the map changed
 // (false: no growth asked and no curvature term).
 bool zoomout_polish(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options,

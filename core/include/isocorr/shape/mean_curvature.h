@@ -33,6 +33,21 @@ Eigen::MatrixXf smoothed_mean_curvature(const TriangleMesh& mesh, const std::vec
                                         const std::vector<double>& scales = kCurvatureScales,
                                         double reference_length = 0);
 
+// Both curvatures, each V x scales.size(), smoothed alike (one factorisation per scale).
+// `gaussian` is the Gaussian curvature K times the area (dimensionless): the angle defect
+// (2 pi less the corner angles around a vertex, pi less them at a boundary vertex) is
+// M K, diffused as M H is above. The mean curvature alone cannot tell a cylinder's side from
+// a cap or a saddle of the same H; K can (a kneecap against the shin beside it), and it too
+// survives a change of pose away from the joints. On a sphere K area = 4 pi everywhere;
+// on any closed genus-0 surface its area-weighted mean is 4 pi (Gauss-Bonnet).
+struct SmoothedCurvature {
+  Eigen::MatrixXf mean;
+  Eigen::MatrixXf gaussian;
+};
+SmoothedCurvature smoothed_mean_and_gaussian_curvature(const TriangleMesh& mesh, const std::vector<Vec3>& normals,
+                                                       const std::vector<double>& scales = kCurvatureScales,
+                                                       double reference_length = 0);
+
 // How much two shapes' smoothed curvatures differ at corresponding points: for each scale
 // (column), sum |h_S(a) - h_T(b)| over sum (|h_S(a)| + |h_T(b)|) over the (a, b) pairs, then
 // the mean over scales. 0 for a map between identical shapes; at most 1.

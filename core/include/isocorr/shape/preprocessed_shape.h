@@ -85,6 +85,9 @@ class PreprocessedShape {
   // Mean curvature smoothed at kCurvatureScales (mean_curvature.h), V x scales; empty
   // when spectral_basis = 0 (only the dense choice reads it).
   const Eigen::MatrixXf& smoothed_curvature() const { return smoothed_curvature_; }
+  // Gaussian curvature times the area, smoothed at the same scales, V x scales; empty when
+  // spectral_basis = 0 (only the curvature polish reads it, the dense choice does not).
+  const Eigen::MatrixXf& smoothed_gaussian_curvature() const { return smoothed_gaussian_curvature_; }
 
   size_t memory_bytes() const;
 
@@ -105,6 +108,7 @@ class PreprocessedShape {
   std::vector<int> spectral_samples_;
   Eigen::VectorXf spectral_eigenvalues_;
   Eigen::MatrixXf smoothed_curvature_;
+  Eigen::MatrixXf smoothed_gaussian_curvature_;
 };
 
 }  // namespace isocorr
