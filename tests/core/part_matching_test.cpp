@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <map>
 #include <random>
 #include <string>
 
@@ -22,14 +21,10 @@ namespace {
 
 double area_of(const TriangleMesh& mesh) { return total_area(mesh); }
 
-// Vertices on an edge that only one face uses.
-std::vector<char> boundary_vertices(const TriangleMesh& mesh) {
-  std::map<std::pair<int, int>, int> edge_faces;
-  for (const Face& f : mesh.faces)
-    for (int k = 0; k < 3; ++k) ++edge_faces[std::minmax(f[k], f[(k + 1) % 3])];
+// 1 for each vertex on an edge that only one face uses.
+std::vector<char> boundary_flags(const TriangleMesh& mesh) {
   std::vector<char> on_boundary(mesh.vertices.size(), 0);
-  for (const auto& [edge, faces] : edge_faces)
-    if (faces == 1) on_boundary[edge.first] = on_boundary[edge.second] = 1;
+  for (const int v : boundary_vertices(mesh)) on_boundary[v] = 1;
   return on_boundary;
 }
 
@@ -154,7 +149,7 @@ void PartOf<Subdivisions>::expect_part_maps_onto_its_place(CutKind kind) {
   // No candidate matched a sample on the cut's rim: its distances are all upper bounds,
   // which any image nearer than them meets at no cost.
   const auto source = shapes.shape(ShapeRole::kSource, settings.preprocess, {});
-  const std::vector<char> rim = boundary_vertices(source->mesh());
+  const std::vector<char> rim = boundary_flags(source->mesh());
   ASSERT_GT(std::count(rim.begin(), rim.end(), 1), 0);
   int rim_samples = 0;
   for (int i = 0; i < source->num_samples(); ++i) rim_samples += rim[source->sample_vertex(i)];

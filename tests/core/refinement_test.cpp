@@ -25,8 +25,6 @@ namespace {
 
 using test_support::spectral_options;
 
-SpectralSide side_of(const PreprocessedShape& shape) { return spectral_side(shape); }
-
 // Fraction of `image` equal to `truth`, and of the rest within one ring of it.
 std::pair<double, double> exact_and_near(const std::vector<int>& image, const std::vector<int>& truth,
                                          const MeshTopology& topology) {
@@ -66,7 +64,7 @@ TEST(ZoomOut, RecoversAPermutedRotatedCopyFromANoisyStart) {
     options.k_start = 10;
     options.k_end = 60;
     options.commutativity = commutativity;
-    const SpectralMap map = zoomout(side_of(*source), side_of(*target), start, options);
+    const SpectralMap map = zoomout(spectral_side(*source), spectral_side(*target), start, options);
 
     const auto [exact, near] = exact_and_near(map.image, copy.permutation, target->geodesics().topology());
     EXPECT_GE(exact, 0.99);
@@ -314,9 +312,9 @@ TEST(ZoomOut, PolishGrowsTheBasisAndKeepsTheMapRight) {
   options.k_start = 10;
   options.k_end = 30;
   options.polish_k_end = 60;
-  SpectralMap map = zoomout(side_of(*source), side_of(*target), start, options);
+  SpectralMap map = zoomout(spectral_side(*source), spectral_side(*target), start, options);
   const double exact_before = exact_and_near(map.image, copy.permutation, target->geodesics().topology()).first;
-  zoomout_polish(side_of(*source), side_of(*target), options, map);
+  zoomout_polish(spectral_side(*source), spectral_side(*target), options, map);
   EXPECT_EQ(map.c.rows(), 60);
   const auto [exact, near] = exact_and_near(map.image, copy.permutation, target->geodesics().topology());
   EXPECT_GE(exact, exact_before);
@@ -447,7 +445,7 @@ TEST(ZoomOut, CurvaturePolishPullsBackASmoothTwistAndKeepsTheTruth) {
   options.polish_k_end = 60;
   twist.map.c = Eigen::MatrixXf::Identity(60, 60);  // the basis size it refits at
   const double before = twist.mean_error(twist.map.image);
-  EXPECT_TRUE(zoomout_polish(side_of(*twist.source), side_of(*twist.target), options, twist.map));
+  EXPECT_TRUE(zoomout_polish(spectral_side(*twist.source), spectral_side(*twist.target), options, twist.map));
   EXPECT_LT(twist.mean_error(twist.map.image), 0.3 * before);
   EXPECT_EQ(twist.map.c.cols(), 60);
   EXPECT_GE(exact_and_near(twist.map.reverse_image, twist.inverse, twist.source->geodesics().topology()).second, 0.99);
@@ -456,12 +454,12 @@ TEST(ZoomOut, CurvaturePolishPullsBackASmoothTwistAndKeepsTheTruth) {
   truth.image = twist.copy.permutation;
   truth.reverse_image = twist.inverse;
   truth.c = Eigen::MatrixXf::Identity(60, 60);
-  ASSERT_TRUE(zoomout_polish(side_of(*twist.source), side_of(*twist.target), options, truth));
+  ASSERT_TRUE(zoomout_polish(spectral_side(*twist.source), spectral_side(*twist.target), options, truth));
   EXPECT_GE(exact_and_near(truth.image, twist.copy.permutation, twist.target->geodesics().topology()).first, 0.99);
 
   options.curvature_weight = 0;
   const std::vector<int> kept = truth.image;
-  EXPECT_FALSE(zoomout_polish(side_of(*twist.source), side_of(*twist.target), options, truth));
+  EXPECT_FALSE(zoomout_polish(spectral_side(*twist.source), spectral_side(*twist.target), options, truth));
   EXPECT_EQ(truth.image, kept);
 }
 

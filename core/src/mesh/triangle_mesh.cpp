@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <utility>
 
 #include <Eigen/Geometry>
 
@@ -103,6 +104,24 @@ std::vector<double> vertex_areas(const TriangleMesh& mesh) {
     for (int v : f) areas[v] += third;
   }
   return areas;
+}
+
+std::vector<int> boundary_vertices(const TriangleMesh& mesh) {
+  std::vector<std::pair<int, int>> edges;
+  edges.reserve(3 * mesh.faces.size());
+  for (const Face& f : mesh.faces)
+    for (int c = 0; c < 3; ++c) edges.emplace_back(std::minmax(f[c], f[(c + 1) % 3]));
+  std::sort(edges.begin(), edges.end());
+  std::vector<int> boundary;
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i;
+    while (j < edges.size() && edges[j] == edges[i]) ++j;
+    if (j - i == 1) boundary.push_back(edges[i].first), boundary.push_back(edges[i].second);
+    i = j;
+  }
+  std::sort(boundary.begin(), boundary.end());
+  boundary.erase(std::unique(boundary.begin(), boundary.end()), boundary.end());
+  return boundary;
 }
 
 }  // namespace isocorr

@@ -13,21 +13,8 @@ namespace isocorr {
 
 std::vector<float> distance_to_boundary(const PreprocessedShape& shape) {
   const TriangleMesh& mesh = shape.mesh();
-  // An edge used by one face only lies on the boundary; count each undirected edge's faces.
-  std::vector<std::pair<int, int>> edges;
-  for (const Face& f : mesh.faces)
-    for (int c = 0; c < 3; ++c) edges.emplace_back(std::minmax(f[c], f[(c + 1) % 3]));
-  std::sort(edges.begin(), edges.end());
-  std::vector<int> boundary;
-  for (size_t i = 0; i < edges.size();) {
-    size_t j = i;
-    while (j < edges.size() && edges[j] == edges[i]) ++j;
-    if (j - i == 1) boundary.push_back(edges[i].first), boundary.push_back(edges[i].second);
-    i = j;
-  }
+  const std::vector<int> boundary = boundary_vertices(mesh);
   if (boundary.empty()) return std::vector<float>(mesh.num_vertices(), kUnreached);
-  std::sort(boundary.begin(), boundary.end());
-  boundary.erase(std::unique(boundary.begin(), boundary.end()), boundary.end());
   FastMarching::Workspace workspace;
   shape.geodesics().compute(boundary, workspace);
   return workspace.distance;

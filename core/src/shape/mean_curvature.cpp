@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
 #include <vector>
 
 #include <Eigen/SparseCholesky>
@@ -13,23 +12,6 @@
 namespace isocorr {
 
 namespace {
-
-// The boundary vertices: ends of an edge that only one face has.
-std::vector<bool> boundary_vertices(const TriangleMesh& mesh) {
-  std::vector<std::pair<int, int>> edges;
-  edges.reserve(3 * mesh.faces.size());
-  for (const Face& f : mesh.faces)
-    for (int c = 0; c < 3; ++c) edges.emplace_back(std::minmax(f[c], f[(c + 1) % 3]));
-  std::sort(edges.begin(), edges.end());
-  std::vector<bool> boundary(mesh.num_vertices(), false);
-  for (size_t i = 0; i < edges.size();) {
-    size_t j = i;
-    while (j < edges.size() && edges[j] == edges[i]) ++j;
-    if (j - i == 1) boundary[edges[i].first] = boundary[edges[i].second] = true;
-    i = j;
-  }
-  return boundary;
-}
 
 // Each column of `integrated` (values already multiplied by the lumped mass) diffused at
 // every scale by one implicit heat step (M + t L) h = integrated, t = (scale * length)^2;
@@ -66,8 +48,8 @@ SmoothedCurvature smoothed_mean_and_gaussian_curvature(const TriangleMesh& mesh,
   // Column 0: M H sqrt(area); column 1: M K area, M K being the angle defect.
   Eigen::MatrixXd integrated(n, 2);
   for (int v = 0; v < n; ++v) integrated(v, 0) = 0.5 * curvature_normal.row(v).dot(normals[v]) * root_area;
-  const std::vector<bool> boundary = boundary_vertices(mesh);
-  for (int v = 0; v < n; ++v) integrated(v, 1) = boundary[v] ? M_PI : 2 * M_PI;
+  integrated.col(1).setConstant(2 * M_PI);
+  for (const int v : boundary_vertices(mesh)) integrated(v, 1) = M_PI;
   for (const Face& f : mesh.faces)
     for (int c = 0; c < 3; ++c) {
       const Vec3 next = mesh.vertices[f[(c + 1) % 3]] - mesh.vertices[f[c]];

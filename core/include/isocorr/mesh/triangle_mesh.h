@@ -47,4 +47,8 @@ std::vector<Vec3> vertex_normals(const TriangleMesh& mesh);
 // One third of the area of the faces around each vertex (barycentric lumped area).
 std::vector<double> vertex_areas(const TriangleMesh& mesh);
 
+// The vertices on the boundary (ends of an edge that only one face has), ascending; empty
+// when the surface is closed.
+std::vector<int> boundary_vertices(const TriangleMesh& mesh);
+
 }  // namespace isocorr
