@@ -435,6 +435,103 @@ TEST(RigidityPolish, PullsBackASmoothTwist) {
   EXPECT_LT(twist.mean_error(twist.map.image), 0.5 * before);
 }
 
+// The creature and a rotated copy, with the true map except on a band around its longest
+// limb, between the tip and the body, whose images are mirrored: each band vertex sent where
+// its point reflected through a plane along the limb lies (what a spectral map does to a
+// shin, held right at the knee and the ankle).
+struct MirroredBand {
+  MirroredBand()
+      : blob(limbed_blob(4)),
+        copy(rotated_scaled_renumbered(blob, 1.0, 7)),
+        source(PreprocessedShape::build(blob, spectral_options())),
+        target(PreprocessedShape::build(copy.mesh, spectral_options())) {
+    const TriangleMesh sphere = icosphere(4);  // the creature before its limbs grew, same numbering
+    const Eigen::Vector3d limb = Eigen::Vector3d(1, 0.2, 0.1).normalized();
+    const Eigen::Vector3d mirror_normal = limb.cross(Eigen::Vector3d::UnitZ()).normalized();
+    std::vector<int> ids(blob.num_vertices());
+    for (size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<int>(i);
+    const std::vector<Eigen::Vector3d> points(blob.vertices.begin(), blob.vertices.end());
+    const KdTree tree(points, ids);
+    map.image = copy.permutation;
+    for (int v = 0; v < blob.num_vertices(); ++v) {
+      const double angle = std::acos(std::clamp(sphere.vertices[v].dot(limb), -1.0, 1.0));
+      if (angle < 0.25 || angle > 0.55) continue;
+      band.push_back(v);
+      const Eigen::Vector3d& p = points[v];
+      map.image[v] = copy.permutation[tree.nearest(p - 2 * p.dot(mirror_normal) * mirror_normal)];
+    }
+    std::vector<int> inverse(copy.permutation.size());
+    for (size_t v = 0; v < inverse.size(); ++v) inverse[copy.permutation[v]] = static_cast<int>(v);
+    map.reverse_image = inverse;
+  }
+  // Share of the band's vertices sent to their true image or one of its neighbours.
+  double band_right(const std::vector<int>& image) const {
+    std::vector<int> band_image, band_truth;
+    for (const int v : band) band_image.push_back(image[v]), band_truth.push_back(copy.permutation[v]);
+    return exact_and_near(band_image, band_truth, target->geodesics().topology()).second;
+  }
+
+  TriangleMesh blob;
+  RenumberedCopy copy;
+  std::shared_ptr<const PreprocessedShape> source, target;
+  std::vector<int> band;
+  SpectralMap map;
+};
+
+// The mirrored band is a fold the polish alone settles in; placed again from the limb's
+// tip and its root, it comes back to the truth, and that end state wins on energy.
+TEST(RigidityPolish, UnfoldsAMirroredSegmentHeldAtBothEnds) {
+  MirroredBand mirrored;
+  ASSERT_GE(mirrored.band.size(), 100u);
+  ASSERT_LT(mirrored.band_right(mirrored.map.image), 0.3);
+  RigidityOptions options;
+  options.threads = 2;
+
+  SpectralMap folded = mirrored.map;
+  options.mirror_repair = false;
+  const MirrorRepair off = rigidity_polish(*mirrored.source, *mirrored.target, options, folded);
+  EXPECT_EQ(off.segments, 0);
+  EXPECT_LT(mirrored.band_right(folded.image), 0.5);
+
+  SpectralMap unfolded = mirrored.map;
+  options.mirror_repair = true;
+  const MirrorRepair on = rigidity_polish(*mirrored.source, *mirrored.target, options, unfolded);
+  EXPECT_GE(on.reversed_vertices, 50);
+  EXPECT_EQ(on.segments, 1);
+  EXPECT_TRUE(on.kept);
+  EXPECT_GE(mirrored.band_right(unfolded.image), 0.95);
+  EXPECT_GE(exact_and_near(unfolded.image, mirrored.copy.permutation, mirrored.target->geodesics().topology()).second,
+            0.98);
+}
+
+// On the true map there is no mirrored segment: the polish is the plain one, and asked to
+// act only where the map is mirrored, it leaves the true map untouched and unfolds the band.
+TEST(RigidityPolish, WhereMirroredActsOnMirroredSegmentsOnly) {
+  MirroredBand mirrored;
+  SpectralMap truth;
+  truth.image = mirrored.copy.permutation;
+  truth.reverse_image = mirrored.map.reverse_image;
+  RigidityOptions options;
+  options.threads = 2;
+  const RigidityPolish polish(*mirrored.source, *mirrored.target, options);
+  SpectralMap untouched = truth;
+  const MirrorRepair none = polish.apply(untouched, {}, 2, MirrorRepairMode::kWhereMirrored);
+  EXPECT_EQ(none.segments, 0);
+  EXPECT_TRUE(untouched.residual.empty());  // not polished
+
+  const MirrorRepair repair = polish.apply(truth);
+  EXPECT_EQ(repair.segments, 0);
+  EXPECT_FALSE(repair.kept);
+  EXPECT_EQ(truth.image, mirrored.copy.permutation);
+  EXPECT_FALSE(truth.residual.empty());
+
+  SpectralMap unfolded = mirrored.map;
+  const MirrorRepair found = polish.apply(unfolded, {}, 2, MirrorRepairMode::kWhereMirrored);
+  EXPECT_EQ(found.segments, 1);
+  EXPECT_TRUE(found.kept);
+  EXPECT_GE(mirrored.band_right(unfolded.image), 0.95);
+}
+
 // The polish with the curvature term and no basis growth (polish_k_end = the map's size):
 // a 10-degree twist (a smooth slide along the surface) is pulled back most of the way, the
 // true map stays true, and without a weight nothing is done.

@@ -119,6 +119,17 @@ DenseMap match_complete(const PreprocessedShape& source, const PreprocessedShape
       result.notes.push_back("outlier repair: " + std::to_string(refined.repair.moved) + " of " +
                              std::to_string(refined.repair.flagged) + " flagged vertices placed again (" +
                              std::to_string(refined.repair.anchors) + " anchors)");
+    if (settings.rigidity.mirror_repair && settings.rigidity.iterations > 0) {
+      auto describe = [](const MirrorRepair& mirror) {
+        return std::to_string(mirror.segments) + " mirrored segments held at both ends placed again" +
+               (mirror.segments == 0 ? ""
+                : mirror.kept        ? ", kept (lower rigidity energy)"
+                                     : ", not kept (higher rigidity energy)") +
+               " (" + std::to_string(mirror.reversed_vertices) + " vertices with reversed rings)";
+      };
+      result.notes.push_back("mirror repair of the chosen map: " + describe(refined.mirror_repair_chosen) +
+                             "; after its spectral polish: " + describe(refined.mirror_repair));
+    }
     if (settings.refine_passes > 0)
       result.notes.push_back("the chosen map refined again from itself " + std::to_string(settings.refine_passes) +
                              (settings.refine_passes == 1 ? " time" : " times"));

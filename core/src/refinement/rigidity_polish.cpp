@@ -5,8 +5,6 @@
 #include <memory>
 
 #include <Eigen/Geometry>
-#include <Eigen/LU>  // determinant
-#include <Eigen/SVD>
 #include <Eigen/SparseCholesky>
 
 #include "isocorr/matching/surface_descent.h"
@@ -14,6 +12,8 @@
 #include "isocorr/util/error.h"
 #include "isocorr/util/ldlt_row_solve.h"
 #include "isocorr/util/parallel.h"
+#include "mirrored_segments.h"
+#include "rigidity_rings.h"
 
 namespace isocorr {
 namespace {
@@ -25,57 +25,6 @@ namespace {
 // of 50 iterations; starting looser (0.01 or 0.03) lets the source leave the target and
 // snap to wrong places (0.0190).
 constexpr double kFitWeights[] = {0.3, 1.0, 3.0};
-
-// Cotangent weights below this are raised to it. An obtuse triangle gives an edge a
-// negative weight, which rewards stretching that edge and turns the local best rotation
-// into a bad one (TOSCA 5k cat0 -> cat1: D_grd 0.0217 -> 0.040 with raw weights, 0.0208
-// with clamped ones); the small positive floor keeps every edge in the energy.
-constexpr double kMinEdgeWeight = 0.01;
-
-struct RingEdge {
-  int to;
-  double weight;
-  Vec3 rest;  // the scaled source edge x_from - x_to
-};
-
-// Every vertex's one-ring with its weights (compressed rows), and the Laplacian of the
-// same weights: the rigidity half of the linear system.
-struct Rings {
-  std::vector<int> offsets;
-  std::vector<RingEdge> edges;
-  Eigen::SparseMatrix<double> laplacian;
-};
-
-Rings build_rings(const TriangleMesh& mesh, double scale) {
-  const Eigen::SparseMatrix<double> cotangent = cotangent_laplacian(mesh);  // symmetric
-  const int n = mesh.num_vertices();
-  Rings rings;
-  rings.offsets.assign(n + 1, 0);
-  std::vector<Eigen::Triplet<double>> triplets;
-  for (int i = 0; i < n; ++i) {
-    for (Eigen::SparseMatrix<double>::InnerIterator entry(cotangent, i); entry; ++entry) {
-      const int j = static_cast<int>(entry.row());
-      if (j == i) continue;
-      const double weight = std::max(kMinEdgeWeight, -entry.value());
-      rings.edges.push_back({j, weight, scale * (mesh.vertices[i] - mesh.vertices[j])});
-      triplets.emplace_back(i, j, -weight);
-      triplets.emplace_back(i, i, weight);
-    }
-    rings.offsets[i + 1] = static_cast<int>(rings.edges.size());
-  }
-  rings.laplacian.resize(n, n);
-  rings.laplacian.setFromTriplets(triplets.begin(), triplets.end());
-  return rings;
-}
-
-// The rotation R minimising sum_j w |(y_i - y_j) - R rest_ij|^2, from the ring's
-// covariance sum_j w rest_ij (y_i - y_j)^T (Sorkine & Alexa 2007), never a reflection.
-Eigen::Matrix3d best_rotation(const Eigen::Matrix3d& covariance) {
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d v = svd.matrixV();
-  if ((v * svd.matrixU().transpose()).determinant() < 0) v.col(2) *= -1;
-  return v * svd.matrixU().transpose();
-}
 
 // The same rotation, moved towards from the ring's previous one: the iteration of Müller et
 // al. 2016 ("A robust method to extract the rotational part of deformations") maximises
@@ -142,17 +91,19 @@ RigidityPolish::RigidityPolish(const PreprocessedShape& source, const Preprocess
 
 RigidityPolish::~RigidityPolish() = default;
 
-void rigidity_polish(const PreprocessedShape& source, const PreprocessedShape& target, const RigidityOptions& options,
-                     SpectralMap& map, const JobControl& control) {
-  RigidityPolish(source, target, options).apply(map, control);
+MirrorRepair rigidity_polish(const PreprocessedShape& source, const PreprocessedShape& target,
+                             const RigidityOptions& options, SpectralMap& map, const JobControl& control) {
+  return RigidityPolish(source, target, options).apply(map, control);
 }
 
-void RigidityPolish::apply(SpectralMap& map, const JobControl& control) const {
-  apply(map, control, options_.threads);
+MirrorRepair RigidityPolish::apply(SpectralMap& map, const JobControl& control) const {
+  return apply(map, control, options_.threads,
+               options_.mirror_repair ? MirrorRepairMode::kCompare : MirrorRepairMode::kOff);
 }
 
-void RigidityPolish::apply(SpectralMap& map, const JobControl& control, int thread_count) const {
-  if (!system_) return;
+MirrorRepair RigidityPolish::apply(SpectralMap& map, const JobControl& control, int thread_count,
+                                   MirrorRepairMode mode) const {
+  if (!system_) return {};
   const PreprocessedShape& source = source_;
   const PreprocessedShape& target = target_;
   const TriangleMesh& from = source.mesh();
@@ -168,52 +119,85 @@ void RigidityPolish::apply(SpectralMap& map, const JobControl& control, int thre
   const MeshTopology& to_topology = target.geodesics().topology();
   const std::vector<Vec3>& to_normals = target.normals();
 
-  using Points = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
-  Points deformed(n, 3), fit_points(n, 3), rhs(n, 3);
-  for (int v = 0; v < n; ++v) deformed.row(v) = to.vertices[map.image[v]].transpose();
-  std::vector<Eigen::Quaterniond> rotation(n);
-  std::vector<Eigen::Matrix3d> rotation_matrix(n);
-  bool first_iteration = true;
-  std::vector<int>& image = map.image;
-
-  for (size_t stage = 0; stage < system_->lambdas.size(); ++stage) {
-    const double lambda = system_->lambdas[stage];
-    const auto& solver = *system_->solvers[stage];
-    for (int iteration = 0; iteration < options_.iterations; ++iteration) {
-      control.check_cancelled();
-      // Local step: each ring's best rotation; and each vertex's fit point, the tangent
-      // plane of the target at the nearest vertex (a plane, not the vertex, so that the
-      // fit does not hold the surface where it is: sliding along the target is free to
-      // first order).
-      parallel_for(n, threads, [&](int v, int) {
-        const Vec3 y = deformed.row(v).transpose();
-        Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-        for (int e = rings.offsets[v]; e < rings.offsets[v + 1]; ++e) {
-          const RingEdge& ring = rings.edges[e];
-          covariance += ring.weight * ring.rest * (y - deformed.row(ring.to).transpose()).transpose();
-        }
-        if (first_iteration) rotation[v] = Eigen::Quaterniond(best_rotation(covariance));
-        else update_rotation(covariance, rotation[v]);
-        rotation_matrix[v] = rotation[v].toRotationMatrix();
-        float squared = 0;
-        image[v] = nearest_by_descent(to, to_topology, y, image[v], squared);
-        const Vec3& p = to.vertices[image[v]];
-        const Vec3& normal = to_normals[image[v]];
-        fit_points.row(v) = (y - normal * normal.dot(y - p)).transpose();
-      });
-      // Global step: (L + lambda M) Y = sum_j w (R_i + R_j) rest_ij / 2 + lambda M fit.
-      parallel_for(n, threads, [&](int v, int) {
-        Vec3 b = lambda * mass(v) * fit_points.row(v).transpose();
-        for (int e = rings.offsets[v]; e < rings.offsets[v + 1]; ++e) {
-          const RingEdge& ring = rings.edges[e];
-          b += 0.5 * ring.weight * (rotation_matrix[v] + rotation_matrix[ring.to]) * ring.rest;
-        }
-        rhs.row(v) = b.transpose();
-      });
-      solve_rows_in_place(solver, rhs);
-      deformed = rhs;
-      first_iteration = false;
+  // The three stages from `deformed` (and `image`, where each vertex's nearest-vertex
+  // search starts); returns the energy they end at, rigidity plus the last stage's fit.
+  auto deform = [&](DeformedPoints& deformed, std::vector<int>& image) {
+    DeformedPoints fit_points(n, 3), rhs(n, 3);
+    std::vector<Eigen::Quaterniond> rotation(n);
+    std::vector<Eigen::Matrix3d> rotation_matrix(n);
+    bool first_iteration = true;
+    double lambda = 0;
+    for (size_t stage = 0; stage < system_->lambdas.size(); ++stage) {
+      lambda = system_->lambdas[stage];
+      const auto& solver = *system_->solvers[stage];
+      for (int iteration = 0; iteration < options_.iterations; ++iteration) {
+        control.check_cancelled();
+        // Local step: each ring's best rotation; and each vertex's fit point, the tangent
+        // plane of the target at the nearest vertex (a plane, not the vertex, so that the
+        // fit does not hold the surface where it is: sliding along the target is free to
+        // first order).
+        parallel_for(n, threads, [&](int v, int) {
+          const Eigen::Matrix3d covariance = ring_covariance(rings, deformed, v);
+          if (first_iteration) rotation[v] = Eigen::Quaterniond(best_rotation(covariance));
+          else update_rotation(covariance, rotation[v]);
+          rotation_matrix[v] = rotation[v].toRotationMatrix();
+          const Vec3 y = deformed.row(v).transpose();
+          float squared = 0;
+          image[v] = nearest_by_descent(to, to_topology, y, image[v], squared);
+          const Vec3& p = to.vertices[image[v]];
+          const Vec3& normal = to_normals[image[v]];
+          fit_points.row(v) = (y - normal * normal.dot(y - p)).transpose();
+        });
+        // Global step: (L + lambda M) Y = sum_j w (R_i + R_j) rest_ij / 2 + lambda M fit.
+        parallel_for(n, threads, [&](int v, int) {
+          Vec3 b = lambda * mass(v) * fit_points.row(v).transpose();
+          for (int e = rings.offsets[v]; e < rings.offsets[v + 1]; ++e) {
+            const RingEdge& ring = rings.edges[e];
+            b += 0.5 * ring.weight * (rotation_matrix[v] + rotation_matrix[ring.to]) * ring.rest;
+          }
+          rhs.row(v) = b.transpose();
+        });
+        solve_rows_in_place(solver, rhs);
+        deformed = rhs;
+        first_iteration = false;
+      }
     }
+    std::vector<double> energy(n, 0.0);
+    parallel_for(n, threads, [&](int v, int) {
+      const Vec3 y = deformed.row(v).transpose();
+      double e = lambda * mass(v) * (y - fit_points.row(v).transpose()).squaredNorm();
+      for (int k = rings.offsets[v]; k < rings.offsets[v + 1]; ++k) {
+        const RingEdge& ring = rings.edges[k];
+        e += ring.weight * ((y - deformed.row(ring.to).transpose()) - rotation_matrix[v] * ring.rest).squaredNorm();
+      }
+      energy[v] = e;
+    });
+    double total = 0;
+    for (const double e : energy) total += e;  // in order: the same sum for any thread count
+    return total;
+  };
+
+  std::vector<int>& image = map.image;
+  DeformedPoints deformed(n, 3);
+  for (int v = 0; v < n; ++v) deformed.row(v) = to.vertices[image[v]].transpose();
+  MirrorRepair repair;
+  if (mode != MirrorRepairMode::kOff) {
+    // Both starts are polished and the lower energy wins: the unfolded segments must earn
+    // their place against the fold the polish would otherwise settle in.
+    DeformedPoints unfolded = deformed;
+    std::vector<int> unfolded_image = image;
+    const MirroredSegments segments = unfold_mirrored_segments(source, target, rings, unfolded_image, unfolded);
+    repair.reversed_vertices = segments.reversed_vertices;
+    repair.segments = segments.segments;
+    if (segments.segments == 0 && mode == MirrorRepairMode::kWhereMirrored) return repair;
+    const double folded_energy = deform(deformed, image);
+    if (segments.segments > 0 && deform(unfolded, unfolded_image) < folded_energy) {
+      deformed.swap(unfolded);
+      image.swap(unfolded_image);
+      repair.kept = true;
+    }
+  } else {
+    deform(deformed, image);
   }
 
   control.check_cancelled();
@@ -224,7 +208,7 @@ void RigidityPolish::apply(SpectralMap& map, const JobControl& control, int thre
     image[v] = nearest_by_descent(to, to_topology, deformed.row(v).transpose(), image[v], squared);
     map.residual[v] = static_cast<float>(std::sqrt(squared) * inverse_diameter);
   });
-  if (!with_reverse) return;
+  if (!with_reverse) return repair;
   // The reverse map from the same deformation: each target vertex goes to the source
   // vertex whose deformed position is nearest, by descent over the source from its image.
   const MeshTopology& from_topology = source.geodesics().topology();
@@ -236,6 +220,7 @@ void RigidityPolish::apply(SpectralMap& map, const JobControl& control, int thre
     map.reverse_image[w] = descend_to_minimum(from_topology, map.reverse_image[w], cost, squared);
     map.reverse_residual[w] = static_cast<float>(std::sqrt(squared) * inverse_diameter);
   });
+  return repair;
 }
 
 }  // namespace isocorr

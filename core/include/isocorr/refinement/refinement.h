@@ -12,6 +12,7 @@
 #include "isocorr/refinement/dense_choice.h"
 #include "isocorr/refinement/final_polish.h"
 #include "isocorr/refinement/outlier_repair.h"
+#include "isocorr/refinement/rigidity_polish.h"
 #include "isocorr/settings/match_settings.h"
 #include "isocorr/util/stage_clock.h"
 
@@ -25,6 +26,9 @@ struct RefinedMatch {
   int chosen = 0;  // index into candidates
   std::string why;
   OutlierRepair repair;  // what the outlier repair of the winner did (settings.outlier_repair)
+  // What the mirror repair did to the winner once chosen, and in its last rigidity polish
+  // (settings.rigidity.mirror_repair).
+  MirrorRepair mirror_repair_chosen, mirror_repair;
   FinalPolishOutcome final_polish;  // settings.rigidity_final_iterations (after settings.refine_passes)
   // Wall-clock time of the steps above: screen, refine (spectral, every start), finish
   // (repair, rigidity polish and dense measures of the candidates), polish (the winner's).

@@ -15,6 +15,11 @@
 // stages. The map then sends each vertex to the target vertex nearest its deformed
 // position, and each target vertex to the source vertex whose deformed position is
 // nearest. Extrinsic, but only through local shape: a pose change does not affect it.
+//
+// A fold is a local minimum of that energy: a stretch of a limb that the map sends
+// mirrored stays mirrored. So the polish also starts from the map with such segments placed
+// again (mirrored_segments.h in the sources) and keeps whichever end state has the lower
+// energy.
 #pragma once
 
 #include <memory>
@@ -29,7 +34,24 @@ struct RigidityOptions {
   // slowly (long-wavelength modes are soft under a local rigidity energy), so more
   // iterations keep helping a little.
   int iterations = 20;
+  // Also polish from the map with its mirrored limb segments placed again, and keep the
+  // lower-energy result (see above).
+  bool mirror_repair = true;
   int threads = 0;
+};
+
+// Whether the polish also starts from the map with its mirrored segments placed again.
+enum class MirrorRepairMode {
+  kOff,
+  kCompare,       // polish both starts and keep the end state of lower energy
+  kWhereMirrored  // the same, but a map without mirrored segments is left untouched
+};
+
+// What the mirror repair of one polish found and did.
+struct MirrorRepair {
+  int reversed_vertices = 0;  // vertices whose one-ring the map reverses
+  int segments = 0;           // mirrored segments held at two or more ends, placed again
+  bool kept = false;          // the polish from the placed segments ended at the lower energy
 };
 
 // The polish for one pair of shapes: the source's rings and the three factored systems
@@ -49,10 +71,11 @@ class RigidityPolish {
   // An empty map.reverse_image asks for the forward map only (a part's reverse map marks
   // target vertices without a counterpart, which the nearest deformed vertex cannot).
   // Deterministic; `control` is checked between iterations.
-  void apply(SpectralMap& map, const JobControl& control = {}) const;
-  // The same on `threads` workers (0 = all cores) instead of the options' count: a match
-  // that finishes several maps side by side shares its workers out among them.
-  void apply(SpectralMap& map, const JobControl& control, int threads) const;
+  MirrorRepair apply(SpectralMap& map, const JobControl& control = {}) const;
+  // The same on `threads` workers (0 = all cores) instead of the options' count (a match
+  // that finishes several maps side by side shares its workers out among them), with the
+  // mirror repair in `mode` whatever the options say.
+  MirrorRepair apply(SpectralMap& map, const JobControl& control, int threads, MirrorRepairMode mode) const;
 
  private:
   struct System;
@@ -63,7 +86,7 @@ class RigidityPolish {
 };
 
 // One polish: RigidityPolish(source, target, options).apply(map, control).
-void rigidity_polish(const PreprocessedShape& source, const PreprocessedShape& target, const RigidityOptions& options,
-                     SpectralMap& map, const JobControl& control = {});
+MirrorRepair rigidity_polish(const PreprocessedShape& source, const PreprocessedShape& target,
+                             const RigidityOptions& options, SpectralMap& map, const JobControl& control = {});
 
 }  // namespace isocorr
