@@ -76,9 +76,7 @@ Finishing finish_map(const PreprocessedShape& source, const PreprocessedShape& t
                      bool mirror_repair) {
   Finishing finishing;
   if (settings.outlier_repair) finishing.repair = repair_outliers(source, target, map.image, threads, control);
-  const bool unfold = mirror_repair && settings.rigidity.mirror_repair;
-  finishing.mirror_repair =
-      rigidity.apply(map, control, threads, unfold ? MirrorRepairMode::kCompare : MirrorRepairMode::kOff);
+  finishing.mirror_repair = rigidity.apply(map, control, threads, mirror_repair && settings.rigidity.mirror_repair);
   return finishing;
 }
 
@@ -172,9 +170,10 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
   // The candidates are finished without the mirror repair, the winner with it: repaired
   // candidates lost SCAPE 001 -> 007 and 001 -> 012 to mirrored maps and won 007 -> 009
   // (every SCAPE pair: 103 -> 102 flip-free). The winner's mirrored segments are unfolded
-  // before its spectral polish, not only in its last finishing: the polish then settles the
-  // unfolded segments (every SCAPE pair: D_grd 0.0103 -> 0.0101 with the last finishing
-  // alone, 0.0096 with every candidate repaired).
+  // before its spectral polish too, so that the polish refits around them (every SCAPE
+  // pair: D_grd 0.0103 -> 0.0101 with the last finishing alone, 0.0093 unfolded first;
+  // polishing the unfolded winner before its spectral polish as well gave 0.0096, and
+  // cost michael0 -> michael1 5 s).
   auto finish = [&](SpectralMap& map, Finishing& finishing, int threads, bool mirror_repair) {
     finishing = finish_map(source, target, rigidity, settings, map, control, threads, mirror_repair);
   };
@@ -266,12 +265,11 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
   }
   Finishing last = finishings[result.chosen];
   clock.finish("finish");
-  if (settings.rigidity.mirror_repair)
-    result.mirror_repair_chosen = rigidity.apply(winner, control, settings.threads, MirrorRepairMode::kWhereMirrored);
+  if (settings.rigidity.mirror_repair) result.mirror_repair_chosen = rigidity.unfold_mirrors(winner);
   // The candidates' evidence describes their maps before the spectral polish: it decided
-  // the choice.
-  spectral_polish(source_side, target_side, options, winner, control,
-                  [&] { finish(winner, last, settings.threads, true); });
+  // the choice. Without a polish, an unfolded winner is finished again instead.
+  const bool polished = zoomout_polish(source_side, target_side, options, winner, control);
+  if (polished || result.mirror_repair_chosen.segments > 0) finish(winner, last, settings.threads, true);
   result.repair = last.repair;
   result.mirror_repair = last.mirror_repair;
   for (int pass = 0; pass < settings.refine_passes; ++pass)

@@ -97,12 +97,20 @@ MirrorRepair rigidity_polish(const PreprocessedShape& source, const Preprocessed
 }
 
 MirrorRepair RigidityPolish::apply(SpectralMap& map, const JobControl& control) const {
-  return apply(map, control, options_.threads,
-               options_.mirror_repair ? MirrorRepairMode::kCompare : MirrorRepairMode::kOff);
+  return apply(map, control, options_.threads, options_.mirror_repair);
+}
+
+MirrorRepair RigidityPolish::unfold_mirrors(SpectralMap& map) const {
+  if (!system_) return {};
+  const TriangleMesh& to = target_.mesh();
+  DeformedPoints deformed(map.image.size(), 3);
+  for (size_t v = 0; v < map.image.size(); ++v) deformed.row(v) = to.vertices[map.image[v]].transpose();
+  const MirroredSegments segments = unfold_mirrored_segments(source_, target_, system_->rings, map.image, deformed);
+  return {segments.reversed_vertices, segments.segments, segments.segments > 0};
 }
 
 MirrorRepair RigidityPolish::apply(SpectralMap& map, const JobControl& control, int thread_count,
-                                   MirrorRepairMode mode) const {
+                                   bool mirror_repair) const {
   if (!system_) return {};
   const PreprocessedShape& source = source_;
   const PreprocessedShape& target = target_;
@@ -181,7 +189,7 @@ MirrorRepair RigidityPolish::apply(SpectralMap& map, const JobControl& control, 
   DeformedPoints deformed(n, 3);
   for (int v = 0; v < n; ++v) deformed.row(v) = to.vertices[image[v]].transpose();
   MirrorRepair repair;
-  if (mode != MirrorRepairMode::kOff) {
+  if (mirror_repair) {
     // Both starts are polished and the lower energy wins: the unfolded segments must earn
     // their place against the fold the polish would otherwise settle in.
     DeformedPoints unfolded = deformed;
@@ -189,7 +197,6 @@ MirrorRepair RigidityPolish::apply(SpectralMap& map, const JobControl& control, 
     const MirroredSegments segments = unfold_mirrored_segments(source, target, rings, unfolded_image, unfolded);
     repair.reversed_vertices = segments.reversed_vertices;
     repair.segments = segments.segments;
-    if (segments.segments == 0 && mode == MirrorRepairMode::kWhereMirrored) return repair;
     const double folded_energy = deform(deformed, image);
     if (segments.segments > 0 && deform(unfolded, unfolded_image) < folded_energy) {
       deformed.swap(unfolded);

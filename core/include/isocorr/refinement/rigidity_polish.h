@@ -40,13 +40,6 @@ struct RigidityOptions {
   int threads = 0;
 };
 
-// Whether the polish also starts from the map with its mirrored segments placed again.
-enum class MirrorRepairMode {
-  kOff,
-  kCompare,       // polish both starts and keep the end state of lower energy
-  kWhereMirrored  // the same, but a map without mirrored segments is left untouched
-};
-
 // What the mirror repair of one polish found and did.
 struct MirrorRepair {
   int reversed_vertices = 0;  // vertices whose one-ring the map reverses
@@ -74,8 +67,12 @@ class RigidityPolish {
   MirrorRepair apply(SpectralMap& map, const JobControl& control = {}) const;
   // The same on `threads` workers (0 = all cores) instead of the options' count (a match
   // that finishes several maps side by side shares its workers out among them), with the
-  // mirror repair in `mode` whatever the options say.
-  MirrorRepair apply(SpectralMap& map, const JobControl& control, int threads, MirrorRepairMode mode) const;
+  // mirror repair on or off whatever the options say.
+  MirrorRepair apply(SpectralMap& map, const JobControl& control, int threads, bool mirror_repair) const;
+  // Only the mirror repair's first half: the map's mirrored segments placed again, their
+  // vertices sent to the target vertices nearest their new positions; no polish, and
+  // map.reverse_image / residuals are left as they were (for a map about to be refitted).
+  MirrorRepair unfold_mirrors(SpectralMap& map) const;
 
  private:
   struct System;
