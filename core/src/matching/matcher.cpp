@@ -120,15 +120,17 @@ DenseMap match_complete(const PreprocessedShape& source, const PreprocessedShape
                              std::to_string(refined.repair.flagged) + " flagged vertices placed again (" +
                              std::to_string(refined.repair.anchors) + " anchors)");
     if (settings.rigidity.mirror_repair && settings.rigidity.iterations > 0) {
-      auto describe = [](const MirrorRepair& mirror) {
-        return std::to_string(mirror.segments) + " mirrored segments held at both ends placed again" +
-               (mirror.segments == 0 ? ""
-                : mirror.kept        ? ", kept (lower rigidity energy)"
-                                     : ", not kept (higher rigidity energy)") +
-               " (" + std::to_string(mirror.reversed_vertices) + " vertices with reversed rings)";
-      };
-      result.notes.push_back("mirror repair of the chosen map: " + describe(refined.mirror_repair_chosen) +
-                             "; after its spectral polish: " + describe(refined.mirror_repair));
+      const MirrorRepair& chosen = refined.mirror_repair_chosen;
+      const MirrorRepair& last = refined.mirror_repair;
+      result.notes.push_back(
+          "mirror repair of the chosen map: " + std::to_string(chosen.segments) +
+          " mirrored segments held at both ends unfolded before its spectral polish (" +
+          std::to_string(chosen.reversed_vertices) + " vertices with reversed rings); after it " +
+          std::to_string(last.segments) + " placed again" +
+          (last.segments == 0 ? ""
+           : last.kept        ? ", kept (lower rigidity energy)"
+                              : ", not kept (higher rigidity energy)") +
+          " (" + std::to_string(last.reversed_vertices) + " vertices with reversed rings)");
     }
     if (settings.refine_passes > 0)
       result.notes.push_back("the chosen map refined again from itself " + std::to_string(settings.refine_passes) +

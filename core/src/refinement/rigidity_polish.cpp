@@ -106,7 +106,7 @@ MirrorRepair RigidityPolish::unfold_mirrors(SpectralMap& map) const {
   DeformedPoints deformed(map.image.size(), 3);
   for (size_t v = 0; v < map.image.size(); ++v) deformed.row(v) = to.vertices[map.image[v]].transpose();
   const MirroredSegments segments = unfold_mirrored_segments(source_, target_, system_->rings, map.image, deformed);
-  return {segments.reversed_vertices, segments.segments, segments.segments > 0};
+  return {segments.reversed_vertices, segments.segments, false};  // no polish here, so no energy to compare
 }
 
 MirrorRepair RigidityPolish::apply(SpectralMap& map, const JobControl& control, int thread_count,
