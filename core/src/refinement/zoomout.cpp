@@ -22,28 +22,76 @@ RowMatrix gather_rows(const RowMatrix& basis, const std::vector<int>& rows, int 
   return out;
 }
 
-// For every row of `queries`, the index of the nearest row of `points` (squared Euclidean),
-// by blocked matrix products: |p|^2 - 2 q.p decides.
-std::vector<int> nearest_rows(const RowMatrix& queries, const RowMatrix& points, int threads) {
+// Calls visit(q, scores) for every row q of `queries`, scores holding |p|^2 - 2 q.p for every
+// row p of `points` (the squared distance less |q|^2), by blocked matrix products on
+// `threads` workers; each worker visits its own rows.
+template <class Visit>
+void visit_row_scores(const RowMatrix& queries, const RowMatrix& points, int threads, const Visit& visit) {
   const Eigen::VectorXf point_norms = points.rowwise().squaredNorm();
   const int n = static_cast<int>(queries.rows());
   constexpr int kBlock = 256;
   const int blocks = (n + kBlock - 1) / kBlock;
-  std::vector<int> nearest(n, 0);
   parallel_for(blocks, threads, [&](int block, int) {
     const int begin = block * kBlock, rows = std::min(kBlock, n - begin);
-    // One column per query, so that each minimum is found in contiguous memory; the least
-    // value first (a vectorised reduction), then its first position, as minCoeff(&index).
+    // One column per query, so that each query's scores lie in contiguous memory.
     const Eigen::MatrixXf products = -2.f * (points * queries.middleRows(begin, rows).transpose());
     Eigen::VectorXf scores(points.rows());
     for (int r = 0; r < rows; ++r) {
       scores = products.col(r) + point_norms;
-      const float least = scores.minCoeff();
-      const float* first = scores.data();
-      const float* end = first + scores.size();
-      const float* found = std::find(first, end, least);  // not found only for a NaN row
-      nearest[begin + r] = found == end ? 0 : static_cast<int>(found - first);
+      visit(begin + r, scores);
     }
+  });
+}
+
+// For every row of `queries`, the index of the nearest row of `points` (squared Euclidean).
+std::vector<int> nearest_rows(const RowMatrix& queries, const RowMatrix& points, int threads) {
+  std::vector<int> nearest(queries.rows(), 0);
+  visit_row_scores(queries, points, threads, [&](int q, const Eigen::VectorXf& scores) {
+    // The least value first (a vectorised reduction), then its first position, as
+    // minCoeff(&index).
+    const float least = scores.minCoeff();
+    const float* first = scores.data();
+    const float* end = first + scores.size();
+    const float* found = std::find(first, end, least);  // not found only for a NaN row
+    nearest[q] = found == end ? 0 : static_cast<int>(found - first);
+  });
+  return nearest;
+}
+
+// For every row of `queries`, of the `candidates` rows of `points` nearest to it, the one of
+// least cost once the extra columns count too: the squared difference of `query_extra`'s
+// row and `point_extra`'s (one row per query and per point) is added.
+std::vector<int> nearest_rows_among(const RowMatrix& queries, const RowMatrix& points, const RowMatrix& query_extra,
+                                    const RowMatrix& point_extra, int candidates, int threads) {
+  const int m = static_cast<int>(points.rows());
+  candidates = std::clamp(candidates, 1, m);
+  std::vector<int> nearest(queries.rows(), 0);
+  visit_row_scores(queries, points, threads, [&](int q, const Eigen::VectorXf& scores) {
+    // The candidates by a bounded max-heap of (score, index), filled by chunks: a selection
+    // over all points (std::nth_element) made a 5K pair's polish growth 40% slower. A later
+    // point enters only below the heap's largest score (at an equal score the earlier index
+    // stays), and most chunks hold no such point.
+    std::vector<std::pair<float, int>> heap(candidates);
+    for (int j = 0; j < candidates; ++j) heap[j] = {scores[j], j};
+    std::make_heap(heap.begin(), heap.end());
+    constexpr int kChunk = 16;
+    for (int chunk = candidates; chunk < m; chunk += kChunk) {
+      const int end = std::min(chunk + kChunk, m);
+      if (scores.segment(chunk, end - chunk).minCoeff() >= heap.front().first) continue;
+      for (int j = chunk; j < end; ++j) {
+        if (!(scores[j] < heap.front().first)) continue;
+        std::pop_heap(heap.begin(), heap.end());
+        heap.back() = {scores[j], j};
+        std::push_heap(heap.begin(), heap.end());
+      }
+    }
+    float best = std::numeric_limits<float>::infinity();
+    int chosen = heap.front().second;
+    for (const auto& [score, w] : heap) {
+      const float cost = score + (query_extra.row(q) - point_extra.row(w)).squaredNorm();
+      if (cost < best || (cost == best && w < chosen)) best = cost, chosen = w;
+    }
+    nearest[q] = chosen;
   });
   return nearest;
 }
@@ -154,32 +202,6 @@ void recover_reverse(const SpectralSide& source, const SpectralSide& target, con
                 threads, map.reverse_image, map.reverse_residual);
 }
 
-// The sampled iterations from basis size k_first (map.c already fitted there, or refitted
-// from map.images when its size differs) up to k_end: map the source samples (nearest target
-// samples in the spectral embedding), then move the images to vertex accuracy by descent on
-// the target mesh (images snapped to target samples would bias C by up to a sample
-// spacing), refit C with a few more basis functions.
-void grow_on_samples(const SpectralSide& source, const SpectralSide& target, int k_first, int k_end,
-                     const ZoomOutOptions& options, SampleMap& map, const JobControl& control) {
-  const RowMatrix& phi_s = *source.basis;
-  const RowMatrix& phi_t = *target.basis;
-  const std::vector<int>& source_samples = *source.samples;
-  const std::vector<int>& target_samples = *target.samples;
-  const int threads = resolve_thread_count(options.threads);
-  const FunctionalMapFit fit = fit_settings(source, target, options);
-  for (int k = k_first;; k = std::min(k + std::max(1, options.k_step), k_end)) {
-    control.check_cancelled();
-    const RowMatrix source_rows = gather_rows(phi_s, source_samples, source_size(k, options));
-    if (map.c.cols() != k) map.c = fit_functional_map(source_rows, gather_rows(phi_t, map.images, k), fit);
-    const RowMatrix queries = source_rows * map.c;
-    const std::vector<int> nearest = nearest_rows(queries, gather_rows(phi_t, target_samples, k), threads);
-    parallel_for(static_cast<int>(map.images.size()), threads, [&](int i, int) {
-      map.images[i] = descend_in_embedding(queries.row(i).data(), phi_t, k, *target.topology, target_samples[nearest[i]]);
-    });
-    if (k >= k_end) break;
-  }
-}
-
 // The curvature term of the polish's pointwise cost (ZoomOutOptions::curvature_weight):
 // both shapes' curvature columns (the mean curvature's, then the Gaussian curvature's when
 // both sides have them) divided by the source's root mean square over its samples (evenly
@@ -188,7 +210,7 @@ void grow_on_samples(const SpectralSide& source, const SpectralSide& target, int
 // Gaussian columns add to the term (SCAPE's first 14 pairs: 0.0071 -> 0.0068; sharing the
 // mean columns' weight with them instead: 0.0069).
 struct CurvatureTerm {
-  Eigen::MatrixXf source, target;
+  RowMatrix source, target;  // row-major: the descent reads one vertex's columns at a time
   double weight_per_function = 0;
 };
 
@@ -234,6 +256,58 @@ int descend_with_curvature(const float* query, int v, const RowMatrix& target_ro
   const int image = descend_to_minimum(topology, start, cost, reached);
   if (spectral) *spectral = std::sqrt(spectral_cost(image));
   return image;
+}
+
+// The curvature columns of `samples`, scaled so that their squared differences weigh as the
+// curvature term does at basis size k.
+RowMatrix weighted_curvature(const RowMatrix& columns, const std::vector<int>& samples, double weight) {
+  RowMatrix rows(samples.size(), columns.cols());
+  const float root = static_cast<float>(std::sqrt(weight));
+  for (size_t i = 0; i < samples.size(); ++i) rows.row(i) = root * columns.row(samples[i]);
+  return rows;
+}
+
+// The sampled iterations from basis size k_first (map.c already fitted there, or refitted
+// from map.images when its size differs) up to k_end: map the source samples (nearest target
+// samples in the spectral embedding), then move the images to vertex accuracy by descent on
+// the target mesh (images snapped to target samples would bias C by up to a sample
+// spacing), refit C with a few more basis functions.
+// With `curvature` (the polish's growth, ZoomOutOptions::curvature_candidates), each image
+// is the target sample of least spectral-plus-curvature cost among the curvature_candidates
+// spectrally nearest, then moved by descent on the same cost.
+void grow_on_samples(const SpectralSide& source, const SpectralSide& target, int k_first, int k_end,
+                     const ZoomOutOptions& options, SampleMap& map, const JobControl& control,
+                     const CurvatureTerm* curvature = nullptr) {
+  const RowMatrix& phi_s = *source.basis;
+  const RowMatrix& phi_t = *target.basis;
+  const std::vector<int>& source_samples = *source.samples;
+  const std::vector<int>& target_samples = *target.samples;
+  const int threads = resolve_thread_count(options.threads);
+  const FunctionalMapFit fit = fit_settings(source, target, options);
+  for (int k = k_first;; k = std::min(k + std::max(1, options.k_step), k_end)) {
+    control.check_cancelled();
+    const RowMatrix source_rows = gather_rows(phi_s, source_samples, source_size(k, options));
+    if (map.c.cols() != k) map.c = fit_functional_map(source_rows, gather_rows(phi_t, map.images, k), fit);
+    const RowMatrix queries = source_rows * map.c;
+    const RowMatrix target_rows = gather_rows(phi_t, target_samples, k);
+    if (curvature) {
+      const double weight = curvature->weight_per_function * k;
+      const std::vector<int> nearest = nearest_rows_among(
+          queries, target_rows, weighted_curvature(curvature->source, source_samples, weight),
+          weighted_curvature(curvature->target, target_samples, weight), options.curvature_candidates, threads);
+      parallel_for(static_cast<int>(map.images.size()), threads, [&](int i, int) {
+        map.images[i] = descend_with_curvature(queries.row(i).data(), source_samples[i], phi_t, k, *curvature,
+                                               *target.topology, target_samples[nearest[i]]);
+      });
+    } else {
+      const std::vector<int> nearest = nearest_rows(queries, target_rows, threads);
+      parallel_for(static_cast<int>(map.images.size()), threads, [&](int i, int) {
+        map.images[i] =
+            descend_in_embedding(queries.row(i).data(), phi_t, k, *target.topology, target_samples[nearest[i]]);
+      });
+    }
+    if (k >= k_end) break;
+  }
 }
 
 // curvature_iterations refits on the samples at the sampled map's basis size, each image
@@ -362,7 +436,8 @@ bool zoomout_polish(const SpectralSide& source, const SpectralSide& target, cons
   for (const int v : *source.samples) sampled.images.push_back(map.image[v]);
   ZoomOutOptions growth = options;
   growth.k_step = options.polish_k_step;
-  grow_on_samples(source, target, k, k_end, growth, sampled, control);
+  const bool curvature_in_growth = curvature && options.curvature_candidates > 0;
+  grow_on_samples(source, target, k, k_end, growth, sampled, control, curvature_in_growth ? &*curvature : nullptr);
   if (!curvature) {
     map = zoomout_dense(source, target, sampled, options, control);
     return true;

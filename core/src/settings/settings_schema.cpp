@@ -159,6 +159,10 @@ std::vector<SettingField> build_schema() {
       row("zoomout_curvature_iterations", kMatch, closed(0, 100),
           "spectral refinement: refits on the samples with the curvature term before its refit on every vertex",
           [](auto& s) -> auto& { return s.zoomout.curvature_iterations; }),
+      row("zoomout_curvature_candidates", kMatch, closed(0, 100000),
+          "spectral refinement: the curvature term also picks each sample's image during the polish's basis growth, "
+          "among this many spectrally nearest target samples (0 = growth without it)",
+          [](auto& s) -> auto& { return s.zoomout.curvature_candidates; }),
       row("outlier_repair", kMatch, {},
           "each refined map's vertices that break geodesic distances to its anchors far more than the rest are placed again",
           [](auto& s) -> auto& { return s.outlier_repair; }),

@@ -53,6 +53,21 @@ struct ZoomOutOptions {
   // why and what it gains.
   double curvature_weight = 3;
   int curvature_iterations = 10;
+  // The curvature term in the polish's basis growth too (0 = growth on the spectral
+  // embedding alone): each sample's image is the target sample of least spectral plus
+  // curvature cost among this many spectrally nearest (32 of 2000 samples: a patch of
+  // about 1.6% of the area, some 10 cm across on a person). Descent alone in the last
+  // refits cannot undo a limb turned about its own axis, which ZoomOut's low frequencies
+  // leave as they please (SCAPE 001 -> 007: a shin and foot turned by 170-180 degrees, an
+  // upper arm by 90; 003 -> 014: a thigh by 30; started from the truth, 15 SCAPE pairs end
+  // as far from it as from the tracked maps, 0.0085 against 0.0081). Searched
+  // over every target sample, the term sent 003 -> 014's raised forearm to the other arm
+  // (weight 1). Every pair of each set: D_grd SCAPE 0.0093 -> 0.0078 (91 pairs better, 13
+  // worse), FAUST 5k 0.0100 -> 0.0093, faust_reg6890 0.0055 -> 0.0050, TOSCA 5k 0.0139 ->
+  // 0.0131, TOSCA hi-res 0.0089 -> 0.0087 (but michael0 -> michael1 0.0020 -> 0.0039),
+  // flip-free counts unchanged; 16 or 8 candidates on 15 SCAPE pairs: 0.0068, 0.0071
+  // against 0.0067.
+  int curvature_candidates = 32;
   // Source functions per target function: 1 between complete shapes; a part's share of the
   // whole's area for a part (partial_refinement.h): a part's i-th eigenvalue is about the
   // whole's (i / share)-th (Weyl's law), so C is fitted as share*k by k. No commutativity
@@ -132,7 +147,9 @@ SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
 // number of smoothing scales (each of the k spectral coordinates and each normalised
 // curvature has unit mean square; the Gaussian columns add to the mean ones' weight, not
 // share it): curvature_iterations refits on the samples,
-// then every vertex once, each image moved by descent. Returns whether the map changed
+// then every vertex once, each image moved by descent. With options.curvature_candidates
+// the same cost already picks the images during the basis growth (among that many
+// spectrally nearest target samples). Returns whether the map changed
 // (false: no growth asked and no curvature term).
 bool zoomout_polish(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options,
                     SpectralMap& map, const JobControl& control = {});
