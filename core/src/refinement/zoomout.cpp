@@ -88,8 +88,11 @@ std::vector<int> nearest_rows_among(const RowMatrix& queries, const RowMatrix& p
       for (int j = c * kChunk; j < std::min(m, (c + 1) * kChunk); ++j)
         if (scores[j] <= bound) nearest_candidates.emplace_back(scores[j], j);
     }
-    std::nth_element(nearest_candidates.begin(), nearest_candidates.begin() + (candidates - 1), nearest_candidates.end());
-    nearest_candidates.resize(candidates);
+    // Fewer than `candidates` only where scores are NaN (a NaN query row: none at all).
+    const size_t kept = std::min<size_t>(candidates, nearest_candidates.size());
+    if (kept == 0) return;  // index 0, as nearest_rows gives a NaN row
+    std::nth_element(nearest_candidates.begin(), nearest_candidates.begin() + (kept - 1), nearest_candidates.end());
+    nearest_candidates.resize(kept);
     float best = std::numeric_limits<float>::infinity();
     int chosen = nearest_candidates.front().second;
     for (const auto& [score, w] : nearest_candidates) {
