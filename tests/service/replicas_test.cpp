@@ -32,16 +32,10 @@ using nlohmann::json;
 
 constexpr const char* kLease = "2";  // seconds: a dead replica's job is taken over soon
 
-// The large pair's subdivision level: 2562 vertices run for seconds in Release; under ASan
-// 642 already run long enough, and the takeover tests wait for the whole job, some twice.
-#if defined(__SANITIZE_ADDRESS__)  // gcc
-#define ISOCORR_UNDER_ASAN
-#elif defined(__has_feature)  // clang
-#if __has_feature(address_sanitizer)
-#define ISOCORR_UNDER_ASAN
-#endif
-#endif
-#ifdef ISOCORR_UNDER_ASAN
+// The large pair's subdivision level: 2562 vertices run for seconds in Release; under the
+// sanitizers 642 already run long enough, and the takeover tests wait for the whole job,
+// some twice.
+#ifdef ISOCORR_SANITIZED
 constexpr int kLargeSubdivisions = 3;
 #else
 constexpr int kLargeSubdivisions = 4;
