@@ -120,6 +120,54 @@ TEST(FunctionalMapFit, ManyRowsFitTheSameOnAnyNumberOfWorkers) {
   EXPECT_TRUE(alone == shared);
 }
 
+// The commutativity fit by its definition: each column of C by its own Cholesky factor of
+// the normal matrix plus that column's diagonal term, then the nearest orthogonal matrix.
+Eigen::MatrixXf commuting_fit_by_factors(const SpectralRows& source, const SpectralRows& target,
+                                         const Eigen::VectorXf& eigenvalues, double commutativity) {
+  const int k = static_cast<int>(source.cols());
+  const Eigen::MatrixXd a = source.cast<double>(), b = target.cast<double>();
+  Eigen::MatrixXd normal = a.transpose() * a;
+  normal.diagonal().array() += 1e-9 * std::max(1.0, normal.diagonal().maxCoeff());
+  const Eigen::MatrixXd rhs = a.transpose() * b;
+  const Eigen::ArrayXd values = eigenvalues.head(k).cast<double>().array();
+  const double weight = commutativity * static_cast<double>(a.rows()) / (values(k - 1) * values(k - 1));
+  Eigen::MatrixXd c(k, k);
+  for (int j = 0; j < k; ++j) {
+    Eigen::MatrixXd system = normal;
+    system.diagonal().array() += weight * (values - values(j)).square();
+    c.col(j) = system.llt().solve(rhs.col(j));
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(c, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  return (svd.matrixU() * svd.matrixV().transpose()).cast<float>();
+}
+
+// The commutativity term's column systems are solved by conjugate gradients, and by their
+// Cholesky factors where those do not converge: on many noisy pairs (well conditioned) and
+// on fewer pairs than functions (the normal matrix is singular but for its ridge), the fit
+// is the factors' one, bit for bit the same on any number of workers.
+TEST(FunctionalMapFit, CommutingColumnsSolveAsByTheirFactors) {
+  constexpr int kColumns = 70;
+  const Eigen::VectorXf eigenvalues = Eigen::VectorXf::LinSpaced(kColumns, 0.f, 400.f);
+  std::mt19937 random(3);
+  for (const int rows : {2000, 50}) {
+    const SpectralRows source = normal_rows(rows, kColumns, random);
+    Eigen::MatrixXf permutation = Eigen::MatrixXf::Zero(kColumns, kColumns);
+    for (int j = 0; j < kColumns; ++j) permutation((j + (j % 3 == 0 ? 1 : 0)) % kColumns, j) = 1.f;
+    const SpectralRows target = source * permutation + 0.5f * normal_rows(rows, kColumns, random);
+    FunctionalMapFit fit;
+    fit.source_eigenvalues = fit.target_eigenvalues = &eigenvalues;
+    fit.commutativity = 10;
+    fit.threads = 1;
+    const Eigen::MatrixXf alone = fit_functional_map(source, target, fit);
+    fit.threads = 2;
+    const Eigen::MatrixXf shared = fit_functional_map(source, target, fit);
+    const Eigen::MatrixXf expected = commuting_fit_by_factors(source, target, eigenvalues, 10);
+    EXPECT_LT((alone - expected).norm(), 1e-4) << rows << " rows";
+    EXPECT_GT((alone - Eigen::MatrixXf::Identity(kColumns, kColumns)).norm(), 1.0) << "the term should not decide alone";
+    EXPECT_TRUE(alone == shared) << rows << " rows";
+  }
+}
+
 // From a part (12 functions) to a whole (20): C is wide, sqrt(20 / 12) times a matrix with
 // orthonormal rows, and the fit gives it back from noise-free pairs.
 TEST(FunctionalMapFit, APartsWideMapComesBackWithRowsOfTheWholesNorm) {
