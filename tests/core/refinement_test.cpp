@@ -502,6 +502,14 @@ TEST(RigidityPolish, UnfoldsAMirroredSegmentHeldAtBothEnds) {
   EXPECT_GE(mirrored.band_right(unfolded.image), 0.95);
   EXPECT_GE(exact_and_near(unfolded.image, mirrored.copy.permutation, mirrored.target->geodesics().topology()).second,
             0.98);
+
+  // The folded and the unfolded polish run side by side on two workers, one after the
+  // other on one: the same map either way.
+  SpectralMap alone = mirrored.map;
+  options.threads = 1;
+  EXPECT_TRUE(rigidity_polish(*mirrored.source, *mirrored.target, options, alone).kept);
+  EXPECT_EQ(alone.image, unfolded.image);
+  EXPECT_EQ(alone.reverse_image, unfolded.reverse_image);
 }
 
 // On the true map there is no mirrored segment: the polish is the plain one, and the

@@ -128,8 +128,9 @@ MirrorRepair RigidityPolish::apply(SpectralMap& map, const JobControl& control, 
   const std::vector<Vec3>& to_normals = target.normals();
 
   // The three stages from `deformed` (and `image`, where each vertex's nearest-vertex
-  // search starts); returns the energy they end at, rigidity plus the last stage's fit.
-  auto deform = [&](DeformedPoints& deformed, std::vector<int>& image) {
+  // search starts) on `workers` threads; returns the energy they end at, rigidity plus the
+  // last stage's fit.
+  auto deform = [&](DeformedPoints& deformed, std::vector<int>& image, int workers) {
     DeformedPoints fit_points(n, 3), rhs(n, 3);
     std::vector<Eigen::Quaterniond> rotation(n);
     std::vector<Eigen::Matrix3d> rotation_matrix(n);
@@ -144,7 +145,7 @@ MirrorRepair RigidityPolish::apply(SpectralMap& map, const JobControl& control, 
         // plane of the target at the nearest vertex (a plane, not the vertex, so that the
         // fit does not hold the surface where it is: sliding along the target is free to
         // first order).
-        parallel_for(n, threads, [&](int v, int) {
+        parallel_for(n, workers, [&](int v, int) {
           const Eigen::Matrix3d covariance = ring_covariance(rings, deformed, v);
           if (first_iteration) rotation[v] = Eigen::Quaterniond(best_rotation(covariance));
           else update_rotation(covariance, rotation[v]);
@@ -157,7 +158,7 @@ MirrorRepair RigidityPolish::apply(SpectralMap& map, const JobControl& control, 
           fit_points.row(v) = (y - normal * normal.dot(y - p)).transpose();
         });
         // Global step: (L + lambda M) Y = sum_j w (R_i + R_j) rest_ij / 2 + lambda M fit.
-        parallel_for(n, threads, [&](int v, int) {
+        parallel_for(n, workers, [&](int v, int) {
           Vec3 b = lambda * mass(v) * fit_points.row(v).transpose();
           for (int e = rings.offsets[v]; e < rings.offsets[v + 1]; ++e) {
             const RingEdge& ring = rings.edges[e];
@@ -171,7 +172,7 @@ MirrorRepair RigidityPolish::apply(SpectralMap& map, const JobControl& control, 
       }
     }
     std::vector<double> energy(n, 0.0);
-    parallel_for(n, threads, [&](int v, int) {
+    parallel_for(n, workers, [&](int v, int) {
       const Vec3 y = deformed.row(v).transpose();
       double e = lambda * mass(v) * (y - fit_points.row(v).transpose()).squaredNorm();
       for (int k = rings.offsets[v]; k < rings.offsets[v + 1]; ++k) {
@@ -197,14 +198,19 @@ MirrorRepair RigidityPolish::apply(SpectralMap& map, const JobControl& control, 
     const MirroredSegments segments = unfold_mirrored_segments(source, target, rings, unfolded_image, unfolded);
     repair.reversed_vertices = segments.reversed_vertices;
     repair.segments = segments.segments;
-    const double folded_energy = deform(deformed, image);
-    if (segments.segments > 0 && deform(unfolded, unfolded_image) < folded_energy) {
+    // The two polishes side by side, the workers shared out: each one's sparse solves run on
+    // one thread and left the other core idle (michael0 -> michael1's last finishing).
+    double energies[2] = {0, 0};
+    parallel_for_sharing(segments.segments > 0 ? 2 : 1, threads, [&](int which, int shared) {
+      energies[which] = which == 0 ? deform(deformed, image, shared) : deform(unfolded, unfolded_image, shared);
+    });
+    if (segments.segments > 0 && energies[1] < energies[0]) {
       deformed.swap(unfolded);
       image.swap(unfolded_image);
       repair.kept = true;
     }
   } else {
-    deform(deformed, image);
+    deform(deformed, image, threads);
   }
 
   control.check_cancelled();
