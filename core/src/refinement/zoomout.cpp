@@ -135,10 +135,11 @@ void recover_dense(const RowMatrix& from_rows, const RowMatrix& to_rows, const M
 }
 
 // rows * c, by chunks of rows on `threads` workers: on every vertex of a 52K mesh the
-// product kept one core busy while the other waited. The chunks are fixed, so the result
-// does not depend on the number of workers.
+// product kept one core busy while the other waited, and on the polish's 2000 samples too.
+// The chunks are fixed, so the result does not depend on the number of workers (and each
+// row's sums are the whole product's: the chunks split rows, not the inner dimension).
 RowMatrix times(const RowMatrix& rows, const Eigen::MatrixXf& c, int threads) {
-  constexpr Eigen::Index kChunkRows = 8192;
+  constexpr Eigen::Index kChunkRows = 1024;
   const Eigen::Index count = rows.rows();
   if (count <= kChunkRows) return rows * c;
   RowMatrix product(count, c.cols());
@@ -296,7 +297,7 @@ void grow_on_samples(const SpectralSide& source, const SpectralSide& target, int
     control.check_cancelled();
     const RowMatrix source_rows = gather_rows(phi_s, source_samples, source_size(k, options));
     if (map.c.cols() != k) map.c = fit_functional_map(source_rows, gather_rows(phi_t, map.images, k), fit);
-    const RowMatrix queries = source_rows * map.c;
+    const RowMatrix queries = times(source_rows, map.c, threads);
     const RowMatrix target_rows = gather_rows(phi_t, target_samples, k);
     if (curvature) {
       const double weight = curvature->weight_per_function * k;
@@ -332,7 +333,8 @@ void sharpen_on_samples(const SpectralSide& source, const SpectralSide& target, 
   const RowMatrix source_rows = gather_rows(*source.basis, samples, k);
   for (int iteration = 0; iteration < options.curvature_iterations; ++iteration) {
     control.check_cancelled();
-    const RowMatrix queries = source_rows * fit_functional_map(source_rows, gather_rows(phi_t, sampled.images, k), fit);
+    const RowMatrix queries =
+        times(source_rows, fit_functional_map(source_rows, gather_rows(phi_t, sampled.images, k), fit), fit.threads);
     parallel_for(static_cast<int>(samples.size()), fit.threads, [&](int i, int) {
       sampled.images[i] =
           descend_with_curvature(queries.row(i).data(), samples[i], phi_t, k, term, *target.topology, sampled.images[i]);
