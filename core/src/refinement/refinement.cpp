@@ -256,9 +256,7 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
     measure(i, result.candidates[i], workers);
   };
   const int count = static_cast<int>(order.size());
-  if (finishing == count || finishing == 0) {
-    parallel_for_sharing(count, threads, [&](int k, int workers) { finish_and_measure(order[k], workers); });
-  } else if (finishing % threads != 0) {
+  if (finishing == count || finishing == 0 || finishing % threads != 0) {
     parallel_for_sharing(finishing, threads, [&](int k, int workers) { finish_and_measure(order[k], workers); });
     parallel_for_sharing(count - finishing, threads,
                          [&](int k, int workers) { finish_and_measure(order[finishing + k], workers); });
