@@ -8,8 +8,9 @@
 // for the whole block, and the operator is applied to a block at once.
 //
 // The method: the Krylov space of the operator from a random block is built block by block,
-// each new block orthogonalised twice against the basis ("twice is enough": first against
-// the blocks the recurrence couples it to, then against all) and then within itself; when
+// each new block orthogonalised against the blocks the recurrence couples it to, then,
+// where what it still has along the whole basis exceeds semi-orthogonality, against all
+// ("twice is enough"), and then within itself; when
 // the basis is full, the Rayleigh-Ritz pairs of the projected matrix are checked, and the
 // best of them are kept as the start of the next cycle (thick restart, Wu & Simon 2000, here
 // in block form) until the wanted ones have converged.
