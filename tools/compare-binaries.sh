@@ -42,7 +42,6 @@ run() {
 }
 
 index=0 pairs=0 differing=0
-old_total=0 new_total=0
 while IFS=$'\t' read -r source target _; do
   [ "$source" = "source" ] && continue  # the header
   index=$((index + 1))
@@ -56,14 +55,13 @@ while IFS=$'\t' read -r source target _; do
   fi
   pairs=$((pairs + 1))
   if cmp -s "$work/old.map" "$work/new.map"; then same="same map"; else same="MAPS DIFFER"; differing=$((differing + 1)); fi
-  old_total=$(awk -v a="$old_total" -v b="$old_seconds" 'BEGIN { print a + b }')
-  new_total=$(awk -v a="$new_total" -v b="$new_seconds" 'BEGIN { print a + b }')
+  echo "$old_seconds $new_seconds" >>"$work/seconds"
   printf '%-40s old %6.2f s  new %6.2f s  %s\n' "$(basename "$source") -> $(basename "$target")" \
     "$old_seconds" "$new_seconds" "$same"
 done <"$data/pairs.tsv"
 
 [ "$pairs" -gt 0 ] || { echo "compare-binaries: no pairs in $data/pairs.tsv" >&2; exit 2; }
-awk -v set="$dataset" -v n="$pairs" -v old="$old_total" -v new="$new_total" -v differ="$differing" 'BEGIN {
+awk -v set="$dataset" -v differ="$differing" '{ old += $1; new += $2 } END {
   printf "== %s: %d pairs, old %.2f s per pair, new %.2f s per pair (new/old %.3f), %d maps differ\n",
-    set, n, old / n, new / n, new / old, differ }'
+    set, NR, old / NR, new / NR, new / old, differ }' "$work/seconds"
 [ "$differing" -eq 0 ]
