@@ -322,7 +322,9 @@ void grow_on_samples(const SpectralSide& source, const SpectralSide& target, int
 // curvature_iterations refits on the samples at the sampled map's basis size, each image
 // moved by descent with the curvature term; leaves C fitted to the last images. No
 // commutativity term: the map is right, and 2000 samples determine C at 200 functions
-// (with it: the same maps, twice the time).
+// (with it: the same maps, twice the time). An iteration that moves no image has reached
+// the fixed point: every further one would fit the same C and descend to the same images,
+// so they are skipped with the same result (centaur0 -> centaur1 settles after 8 of 10).
 void sharpen_on_samples(const SpectralSide& source, const SpectralSide& target, const CurvatureTerm& term,
                         const ZoomOutOptions& options, SampleMap& sampled, const JobControl& control) {
   const int k = static_cast<int>(sampled.c.cols());
@@ -331,14 +333,17 @@ void sharpen_on_samples(const SpectralSide& source, const SpectralSide& target, 
   FunctionalMapFit fit;
   fit.threads = resolve_thread_count(options.threads);
   const RowMatrix source_rows = gather_rows(*source.basis, samples, k);
+  std::vector<int> before;
   for (int iteration = 0; iteration < options.curvature_iterations; ++iteration) {
     control.check_cancelled();
     const RowMatrix queries =
         times(source_rows, fit_functional_map(source_rows, gather_rows(phi_t, sampled.images, k), fit), fit.threads);
+    before = sampled.images;
     parallel_for(static_cast<int>(samples.size()), fit.threads, [&](int i, int) {
       sampled.images[i] =
           descend_with_curvature(queries.row(i).data(), samples[i], phi_t, k, term, *target.topology, sampled.images[i]);
     });
+    if (sampled.images == before) break;
   }
   sampled.c = fit_functional_map(source_rows, gather_rows(phi_t, sampled.images, k), fit);
 }
