@@ -96,6 +96,25 @@ TEST(FastMarching, CutoffLeavesFarVerticesUnreached) {
   for (int v = 0; v < sphere.num_vertices(); ++v) EXPECT_NE(ws.distance[v], kUnreached);
 }
 
+// Three pages on the edge 0-1 (an uncleaned non-manifold input), the third of them, in the
+// x-z plane, with a second triangle holding the source 5. Vertex 4 is final before 0, so
+// 1's best value comes from the third page's triangle (0, 1, 4) as 0 is finalised: the
+// plane wave through 0 and 4. Dropping that face from 0's neighbours would leave 1 the
+// edge paths' 1 + sqrt(2).
+TEST(FastMarching, TheThirdFaceOnANonManifoldEdgeStillUpdates) {
+  TriangleMesh book;
+  book.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0.5, 1, 0), Vec3(0.5, -1, 0), Vec3(0, 0, 1), Vec3(-1, 0, 1)};
+  book.faces = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}, {0, 4, 5}};
+  const MeshTopology topology(book);
+  const FastMarching fmm(book, topology);
+  const std::vector<float> d = fmm.distance_field(5);
+  const double d0 = std::sqrt(2.0), d4 = 1.0;  // along the edges from 5
+  ASSERT_NEAR(d[0], d0, 1e-6);
+  ASSERT_NEAR(d[4], d4, 1e-6);
+  EXPECT_NEAR(d[1], d0 + std::sqrt(1 - (d4 - d0) * (d4 - d0)), 1e-5);
+  EXPECT_LT(d[1], 1 + std::sqrt(2.0) - 0.05);
+}
+
 TEST(FastMarching, DistanceBetweenStopsAtTarget) {
   const TriangleMesh sphere = icosphere(4);
   const MeshTopology topology(sphere);

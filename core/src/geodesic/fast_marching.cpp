@@ -114,25 +114,35 @@ FastMarching::FastMarching(const TriangleMesh& mesh, const MeshTopology& topolog
     return CornerGeometry{e_next.norm(), e_prev.norm(), e_next.dot(e_prev)};
   };
   const int n = mesh.num_vertices();
-  wedge_offsets_.assign(n + 1, 0);
+  spoke_offsets_.assign(n + 1, 0);
   for (int v = 0; v < n; ++v) {
+    const size_t first = spokes_.size();
     for (const int* f = topology.faces_begin(v); f != topology.faces_end(v); ++f) {
       const Face& face = mesh.faces[*f];
       for (int k = 0; k < 3; ++k) {
         const int target = face[k];
-        if (target == v) continue;  // final when its wedges are read
+        if (target == v) continue;  // final when its spokes are read
         const int next = face[(k + 1) % 3], prev = face[(k + 2) % 3];
-        wedges_.push_back({target, next == v ? prev : next, corner_geometry(face, k), next == v});
+        // The neighbour's spoke with room for this face, else a new one (a third face on
+        // one edge, left by an uncleaned non-manifold input, starts a second spoke).
+        size_t s = first;
+        while (s < spokes_.size() && !(spokes_[s].target == target && spokes_[s].faces < 2)) ++s;
+        if (s == spokes_.size()) spokes_.push_back(Spoke{target, 0, {-1, -1}, {false, false}, {}});
+        Spoke& spoke = spokes_[s];
+        spoke.other[spoke.faces] = next == v ? prev : next;
+        spoke.vertex_is_next[spoke.faces] = next == v;
+        spoke.corner[spoke.faces] = corner_geometry(face, k);
+        ++spoke.faces;
       }
     }
-    wedge_offsets_[v + 1] = static_cast<int>(wedges_.size());
+    spoke_offsets_[v + 1] = static_cast<int>(spokes_.size());
   }
 }
 
 // Solves for the distance at corner `corner` of `face` given final distances at the next
 // and previous corners: the planar front d(x) = d_c + g.(x - c) with |g| = 1 that matches
 // both known corners. Accepted only if the front arrives from inside the triangle.
-float FastMarching::update_from_triangle(const CornerGeometry& g, double da, double db) {
+inline float FastMarching::update_from_triangle(const CornerGeometry& g, double da, double db) {
   double best = std::min(da + g.edge_next, db + g.edge_prev);
   const double g11 = g.edge_next * g.edge_next, g12 = g.dot, g22 = g.edge_prev * g.edge_prev;
   const double det = g11 * g22 - g12 * g12;
@@ -188,28 +198,35 @@ void FastMarching::compute(const std::vector<int>& sources, Workspace& ws, float
     ws.state[v] = kFinal;
     if (v == stop_at) break;
     // The next vertex to be final is most likely the front's top now: start loading its
-    // wedges while v's are processed (the first read of a vertex's wedges missed the cache).
-    // All of them: a vertex's dozen wedges span seven or eight cache lines, and with only
-    // the first one asked for, a 52K mesh's field took 12.4 ms instead of 9.2.
+    // spokes while v's are processed (the first read of a vertex's spokes missed the cache).
+    // All of them: a vertex's half dozen spokes span seven or eight cache lines, and with
+    // only the first one asked for, a 52K mesh's field took 12.4 ms instead of 9.2.
     if (!front.empty()) {
       const int next = front.top();
-      // From the start of the line holding the first wedge, so that the last line is not missed.
-      const auto begin = reinterpret_cast<std::uintptr_t>(wedges_.data() + wedge_offsets_[next]) & ~(kCacheLine - 1);
-      const auto end = reinterpret_cast<std::uintptr_t>(wedges_.data() + wedge_offsets_[next + 1]);
+      // From the start of the line holding the first spoke, so that the last line is not missed.
+      const auto begin = reinterpret_cast<std::uintptr_t>(spokes_.data() + spoke_offsets_[next]) & ~(kCacheLine - 1);
+      const auto end = reinterpret_cast<std::uintptr_t>(spokes_.data() + spoke_offsets_[next + 1]);
       for (std::uintptr_t line = begin; line < end; line += kCacheLine)
         __builtin_prefetch(reinterpret_cast<const void*>(line));
     }
-    // Every face around v may give its other corners a better value.
-    for (int i = wedge_offsets_[v]; i < wedge_offsets_[v + 1]; ++i) {
-      const Wedge& w = wedges_[i];
-      const int target = w.target;
+    // Every face around v may give its other corners a better value: each neighbour takes
+    // the least of its faces' candidates (the value a face-by-face pass would leave).
+    for (int i = spoke_offsets_[v]; i < spoke_offsets_[v + 1]; ++i) {
+      const Spoke& spoke = spokes_[i];
+      const int target = spoke.target;
       if (ws.state[target] == kFinal) continue;
-      float candidate;
-      if (ws.state[w.other] == kFinal) {
-        candidate = w.vertex_is_next ? update_from_triangle(w.corner, d[v], d[w.other])
-                                     : update_from_triangle(w.corner, d[w.other], d[v]);
-      } else {
-        candidate = d[v] + static_cast<float>(w.vertex_is_next ? w.corner.edge_next : w.corner.edge_prev);
+      float candidate = kUnreached;
+      for (int f = 0; f < spoke.faces; ++f) {
+        const int other = spoke.other[f];
+        const CornerGeometry& corner = spoke.corner[f];
+        float value;
+        if (ws.state[other] == kFinal) {
+          value = spoke.vertex_is_next[f] ? update_from_triangle(corner, d[v], d[other])
+                                          : update_from_triangle(corner, d[other], d[v]);
+        } else {
+          value = d[v] + static_cast<float>(spoke.vertex_is_next[f] ? corner.edge_next : corner.edge_prev);
+        }
+        candidate = std::min(candidate, value);
       }
       if (candidate < d[target]) {
         if (ws.state[target] == kFar) {

@@ -55,24 +55,27 @@ class FastMarching {
   struct CornerGeometry {
     double edge_next, edge_prev, dot;
   };
-  // One corner that a vertex's finalisation may update: `target`, the third vertex of the
-  // face `other`, whether the finalised vertex comes next after `target` in the face (else
-  // before it), and the target corner's geometry.
-  struct Wedge {
+  // One neighbour `target` that a vertex's finalisation may update, with the one or two
+  // faces they share (two inside, one along a boundary): face f's third vertex `other[f]`,
+  // whether the finalised vertex comes next after `target` in it (else before it), and the
+  // target corner's geometry there. Grouping a neighbour's faces tests its state once, where
+  // one entry per face tested it twice and the branch on it was the loop's costliest.
+  struct Spoke {
     int target;
-    int other;
-    CornerGeometry corner;
-    bool vertex_is_next;
+    int faces;
+    int other[2];
+    bool vertex_is_next[2];
+    CornerGeometry corner[2];
   };
   static float update_from_triangle(const CornerGeometry& corner, double d_next, double d_prev);
 
   const TriangleMesh& mesh_;
   const MeshTopology& topology_;
-  // Every vertex's wedges, vertex by vertex (compressed rows), in the order of its faces
-  // in the topology: the inner loop then reads them in sequence, where reading faces and
-  // their corners scattered over the mesh kept it waiting on memory.
-  std::vector<int> wedge_offsets_;  // #V + 1
-  std::vector<Wedge> wedges_;
+  // Every vertex's spokes, vertex by vertex (compressed rows), in the order of its
+  // neighbours in the topology: the inner loop then reads them in sequence, where reading
+  // faces and their corners scattered over the mesh kept it waiting on memory.
+  std::vector<int> spoke_offsets_;  // #V + 1
+  std::vector<Spoke> spokes_;
 };
 
 }  // namespace isocorr
