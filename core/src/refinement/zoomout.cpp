@@ -336,14 +336,17 @@ void sharpen_on_samples(const SpectralSide& source, const SpectralSide& target, 
   std::vector<int> before;
   for (int iteration = 0; iteration < options.curvature_iterations; ++iteration) {
     control.check_cancelled();
-    const RowMatrix queries =
-        times(source_rows, fit_functional_map(source_rows, gather_rows(phi_t, sampled.images, k), fit), fit.threads);
+    const Eigen::MatrixXf c = fit_functional_map(source_rows, gather_rows(phi_t, sampled.images, k), fit);
+    const RowMatrix queries = times(source_rows, c, fit.threads);
     before = sampled.images;
     parallel_for(static_cast<int>(samples.size()), fit.threads, [&](int i, int) {
       sampled.images[i] =
           descend_with_curvature(queries.row(i).data(), samples[i], phi_t, k, term, *target.topology, sampled.images[i]);
     });
-    if (sampled.images == before) break;
+    if (sampled.images == before) {
+      sampled.c = c;  // already fitted to these images
+      return;
+    }
   }
   sampled.c = fit_functional_map(source_rows, gather_rows(phi_t, sampled.images, k), fit);
 }

@@ -71,9 +71,9 @@ class FastMarching {
 
   const TriangleMesh& mesh_;
   const MeshTopology& topology_;
-  // Every vertex's spokes, vertex by vertex (compressed rows), in the order of its
-  // neighbours in the topology: the inner loop then reads them in sequence, where reading
-  // faces and their corners scattered over the mesh kept it waiting on memory.
+  // Every vertex's spokes, vertex by vertex (compressed rows), each where the vertex's faces
+  // in the topology first reach that neighbour: the inner loop then reads them in sequence,
+  // where reading faces and their corners scattered over the mesh kept it waiting on memory.
   std::vector<int> spoke_offsets_;  // #V + 1
   std::vector<Spoke> spokes_;
 };
