@@ -31,14 +31,14 @@ case "$every" in '' | *[!0-9]* | 0) echo "compare-binaries: EVERY must be a posi
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 
-# Seconds of one match, its map left in $work/$2.map.
+# One match, its map left in $work/$2.map and its wall and CPU (user + system) seconds in
+# $work/$2.seconds. CPU time shows a change in work where the VM's drift hides it in wall time.
 run() {
-  local binary="$1" name="$2" source="$3" target="$4" start end
-  start=$(date +%s.%N)
-  "$binary" match "$data/$source" "$data/$target" -o "$work/$name.map" "${flags[@]}" >/dev/null 2>"$work/$name.log" ||
+  local binary="$1" name="$2" source="$3" target="$4" TIMEFORMAT='%R %U %S'
+  { time "$binary" match "$data/$source" "$data/$target" -o "$work/$name.map" "${flags[@]}" >/dev/null 2>"$work/$name.log"; } \
+    2>"$work/$name.time" ||
     { echo "compare-binaries: $binary failed on $source -> $target:" >&2; cat "$work/$name.log" >&2; exit 1; }
-  end=$(date +%s.%N)
-  awk -v a="$start" -v b="$end" 'BEGIN { printf "%.3f", b - a }'
+  awk '{ printf "%.3f %.3f\n", $1, $2 + $3 }' "$work/$name.time" >"$work/$name.seconds"
 }
 
 index=0 pairs=0 differing=0
@@ -47,21 +47,24 @@ while IFS=$'\t' read -r source target _; do
   index=$((index + 1))
   [ $(((index - 1) % every)) -eq 0 ] || continue
   if [ $((pairs % 2)) -eq 0 ]; then
-    old_seconds=$(run "$old" old "$source" "$target")
-    new_seconds=$(run "$new" new "$source" "$target")
+    run "$old" old "$source" "$target"
+    run "$new" new "$source" "$target"
   else
-    new_seconds=$(run "$new" new "$source" "$target")
-    old_seconds=$(run "$old" old "$source" "$target")
+    run "$new" new "$source" "$target"
+    run "$old" old "$source" "$target"
   fi
+  read -r old_seconds old_cpu <"$work/old.seconds"
+  read -r new_seconds new_cpu <"$work/new.seconds"
   pairs=$((pairs + 1))
   if cmp -s "$work/old.map" "$work/new.map"; then same="same map"; else same="MAPS DIFFER"; differing=$((differing + 1)); fi
-  echo "$old_seconds $new_seconds" >>"$work/seconds"
-  printf '%-40s old %6.2f s  new %6.2f s  %s\n' "$(basename "$source") -> $(basename "$target")" \
-    "$old_seconds" "$new_seconds" "$same"
+  echo "$old_seconds $new_seconds $old_cpu $new_cpu" >>"$work/seconds"
+  printf '%-40s old %6.2f s (CPU %6.2f)  new %6.2f s (CPU %6.2f)  %s\n' "$(basename "$source") -> $(basename "$target")" \
+    "$old_seconds" "$old_cpu" "$new_seconds" "$new_cpu" "$same"
 done <"$data/pairs.tsv"
 
 [ "$pairs" -gt 0 ] || { echo "compare-binaries: no pairs in $data/pairs.tsv" >&2; exit 2; }
-awk -v set="$dataset" -v differ="$differing" '{ old += $1; new += $2 } END {
+awk -v set="$dataset" -v differ="$differing" '{ old += $1; new += $2; old_cpu += $3; new_cpu += $4 } END {
   printf "== %s: %d pairs, old %.2f s per pair, new %.2f s per pair (new/old %.3f), %d maps differ\n",
-    set, NR, old / NR, new / NR, new / old, differ }' "$work/seconds"
+    set, NR, old / NR, new / NR, new / old, differ
+  printf "   CPU seconds per pair: old %.2f, new %.2f (new/old %.3f)\n", old_cpu / NR, new_cpu / NR, new_cpu / old_cpu }' "$work/seconds"
 [ "$differing" -eq 0 ]
