@@ -8,6 +8,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "isocorr/spectral/row_chunked_product.h"
 #include "isocorr/util/error.h"
 
 namespace isocorr {
@@ -35,12 +36,6 @@ constexpr unsigned kStartSeed = 20191;
 constexpr double kResidualRounding = 10;
 // Rows rotated at a time by a thick restart (the rotation is done in place, chunk by chunk).
 constexpr Eigen::Index kRestartRows = 256;
-// Rows per product when the Ritz vectors are formed. Eigen packs the whole left side of a
-// product it blocks by columns (200 Ritz vectors are two blocks): at 52K vertices a fresh
-// 167 MiB buffer, which the kernel zeroes page by page (the 52K pair's largest source of
-// system time). Chunks of a multiple of Eigen's row panel (24 rows for double with
-// AVX-512, 12 with AVX2: 3072 is a multiple of each) give the same bits as one product.
-constexpr Eigen::Index kProductRows = 3072;
 
 // out(c, :) += sum over the rows r of [i, i + rows) of V(r, c) weights[r] w(r, :), for c in
 // [first, cols), with rows 4 (the partial sums then fill the vector registers) or 1.
@@ -120,14 +115,10 @@ class WeightedBasis {
       : weights_(weights), vectors_(weights.size(), capacity) {}
 
   Eigen::Index size() const { return size_; }
-  // V(:, 0:coefficients.rows()) coefficients, by chunks of rows.
+  // V(:, 0:coefficients.rows()) coefficients (row_chunked_product.h: no left-side copy).
   Matrix combination(const Matrix& coefficients) const {
-    const Eigen::Index n = vectors_.rows();
-    Matrix out(n, coefficients.cols());
-    for (Eigen::Index begin = 0; begin < n; begin += kProductRows) {
-      const Eigen::Index rows = std::min(kProductRows, n - begin);
-      out.middleRows(begin, rows).noalias() = vectors_.block(begin, 0, rows, coefficients.rows()) * coefficients;
-    }
+    Matrix out(vectors_.rows(), coefficients.cols());
+    multiply_by_row_chunks(vectors_.leftCols(coefficients.rows()), coefficients, out);
     return out;
   }
   Matrix column_block(Eigen::Index begin) const { return vectors_.middleCols(begin, kLanczosBlock); }

@@ -12,6 +12,7 @@
 #include <Eigen/SparseCholesky>
 
 #include "isocorr/spectral/block_lanczos.h"
+#include "isocorr/spectral/row_chunked_product.h"
 #include "isocorr/util/ldlt_row_solve.h"
 #include "isocorr/util/error.h"
 
@@ -104,24 +105,12 @@ bool has_repeated_eigenvalue(const Eigen::VectorXd& ascending) {
   return false;
 }
 
-// Rows per product in make_mass_orthonormal: in place by chunks, where one product needs a
-// second basis-sized matrix (80 MiB at 52K vertices, fresh pages the kernel zeroes). A
-// multiple of Eigen's row panel (24 rows for double with AVX-512, 12 with AVX2), so the
-// bits are those of one product.
-constexpr Eigen::Index kProductRows = 3072;
-
 // Phi <- Phi G^(-1/2) with G = Phi^T M Phi (Loewdin): M-orthonormal, and the nearest such
 // basis to what the solver returned, so well-separated eigenvectors are left as they are.
 void make_mass_orthonormal(const Eigen::VectorXd& mass, Eigen::MatrixXd& phi) {
   const Eigen::MatrixXd gram = phi.transpose() * mass.asDiagonal() * phi;
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(gram);
-  const Eigen::MatrixXd inverse_root = eigen.operatorInverseSqrt();
-  Eigen::MatrixXd rows;
-  for (Eigen::Index begin = 0; begin < phi.rows(); begin += kProductRows) {
-    const Eigen::Index count = std::min(kProductRows, phi.rows() - begin);
-    rows.noalias() = phi.middleRows(begin, count) * inverse_root;
-    phi.middleRows(begin, count) = rows;
-  }
+  multiply_by_row_chunks(phi, Eigen::MatrixXd(eigen.operatorInverseSqrt()), phi);  // in place
 }
 
 // Largest-magnitude entry positive (first such entry on exact ties).
