@@ -125,7 +125,7 @@ void solve_commuting_columns(const Eigen::MatrixXd& normal, const Eigen::MatrixX
 // share, and shrunk queries then favour small-norm rows in the nearest-neighbour search,
 // a bias the iterations never leave (measured: 81% exact on a perfect copy from a start
 // with a quarter of the pairs wrong, against exact with the projection).
-Eigen::MatrixXf fit_functional_map(const SpectralRows& a, const SpectralRows& b, const FunctionalMapFit& fit) {
+Eigen::MatrixXf fit_functional_map(const SpectralRowsView& a, const SpectralRowsView& b, const FunctionalMapFit& fit) {
   const int k = static_cast<int>(a.cols());
   const int target_k = static_cast<int>(b.cols());
   // The normal equations summed over chunks of kFitChunkRows rows, the chunks on workers

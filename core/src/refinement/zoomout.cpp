@@ -15,8 +15,11 @@ namespace isocorr {
 namespace {
 
 using RowMatrix = SpectralRows;
+// The first k columns of a basis, read in place (a copy of a 52K mesh's 200 was 40 MB of
+// fresh pages for the kernel to zero).
+using RowsView = SpectralRowsView;
 
-RowMatrix gather_rows(const RowMatrix& basis, const std::vector<int>& rows, int k) {
+RowMatrix gather_rows(const RowsView& basis, const std::vector<int>& rows, int k) {
   RowMatrix out(rows.size(), k);
   for (size_t i = 0; i < rows.size(); ++i) out.row(i) = basis.row(rows[i]).head(k);
   return out;
@@ -106,7 +109,7 @@ std::vector<int> nearest_rows_among(const RowMatrix& queries, const RowMatrix& p
 
 // The vertex of `rows`' mesh nearest to `query` in the embedding of the first k columns,
 // by descent from `start`; `best` receives the squared distance.
-int descend_in_embedding(const float* query, const RowMatrix& rows, int k, const MeshTopology& topology, int start,
+int descend_in_embedding(const float* query, const RowsView& rows, int k, const MeshTopology& topology, int start,
                          float* best = nullptr) {
   // Eigen's reduction runs on whole vector registers; a plain loop's sum is one chain of
   // dependent additions (the compiler may not reorder them), four times slower at k = 100.
@@ -121,7 +124,7 @@ int descend_in_embedding(const float* query, const RowMatrix& rows, int k, const
 // Dense recovery in one direction: each `from` vertex goes to the `to` vertex whose row
 // of `to_rows` is nearest to its own row of `from_rows`, found by descent on the `to` mesh
 // from `start[v]`.
-void recover_dense(const RowMatrix& from_rows, const RowMatrix& to_rows, const MeshTopology& to_topology,
+void recover_dense(const RowsView& from_rows, const RowsView& to_rows, const MeshTopology& to_topology,
                    const std::vector<int>& start, int threads, std::vector<int>& image, std::vector<float>& residual) {
   const int n = static_cast<int>(from_rows.rows());
   image.assign(n, 0);
@@ -138,7 +141,7 @@ void recover_dense(const RowMatrix& from_rows, const RowMatrix& to_rows, const M
 // product kept one core busy while the other waited, and on the polish's 2000 samples too.
 // The chunks are fixed, so the result does not depend on the number of workers (and each
 // row's sums are the whole product's: the chunks split rows, not the inner dimension).
-RowMatrix times(const RowMatrix& rows, const Eigen::MatrixXf& c, int threads) {
+RowMatrix times(const RowsView& rows, const Eigen::MatrixXf& c, int threads) {
   constexpr Eigen::Index kChunkRows = 1024;
   const Eigen::Index count = rows.rows();
   if (count <= kChunkRows) return rows * c;
@@ -163,7 +166,7 @@ std::vector<int> starts_from_samples(const MeshTopology& topology, int vertex_co
 // then each vertex's image moved by descent from where it is (O(V k), no all-pairs search:
 // the map is already close, so the nearest row lies near the current image).
 // Leaves the new C in map.c and returns the pulled rows (source rows times C).
-RowMatrix refit_on_every_vertex(const RowMatrix& source_rows, const RowMatrix& target_rows,
+RowMatrix refit_on_every_vertex(const RowsView& source_rows, const RowsView& target_rows,
                                 const FunctionalMapFit& fit, int threads, const MeshTopology& target_topology,
                                 SpectralMap& map) {
   const int k = static_cast<int>(target_rows.cols());
@@ -196,8 +199,8 @@ FunctionalMapFit fit_settings(const SpectralSide& source, const SpectralSide& ta
 // The reverse map from the same C: each target vertex goes to the source vertex whose
 // pulled-back row (`pulled` = source rows times C) is nearest, so forward and reverse
 // answer one functional map.
-void recover_reverse(const SpectralSide& source, const SpectralSide& target, const RowMatrix& pulled,
-                     const RowMatrix& target_rows, int threads, SpectralMap& map) {
+void recover_reverse(const SpectralSide& source, const SpectralSide& target, const RowsView& pulled,
+                     const RowsView& target_rows, int threads, SpectralMap& map) {
   const int k = static_cast<int>(pulled.cols());
   const std::vector<int>& source_samples = *source.samples;
   const std::vector<int>& target_samples = *target.samples;
@@ -255,7 +258,7 @@ std::optional<CurvatureTerm> curvature_term(const SpectralSide& source, const Sp
 // The image of source vertex v whose pulled row is `query` (k columns): descent on the
 // target from `start` on the spectral distance plus the weighted curvature difference;
 // `spectral` receives the spectral distance there.
-int descend_with_curvature(const float* query, int v, const RowMatrix& target_rows, int k, const CurvatureTerm& term,
+int descend_with_curvature(const float* query, int v, const RowsView& target_rows, int k, const CurvatureTerm& term,
                            const MeshTopology& topology, int start, float* spectral = nullptr) {
   const Eigen::Map<const Eigen::VectorXf> q(query, k);
   const float weight = static_cast<float>(term.weight_per_function * k);
@@ -359,7 +362,7 @@ SpectralMap sharpened_dense(const SpectralSide& source, const SpectralSide& targ
   const int k = static_cast<int>(sampled.c.cols());
   SpectralMap map;
   map.c = sampled.c;
-  const RowMatrix target_rows = target.basis->leftCols(k);
+  const RowsView target_rows = target.basis->leftCols(k);
   const RowMatrix pulled = times(source.basis->leftCols(k), sampled.c, threads);
   const int n = static_cast<int>(pulled.rows());
   map.image = starts_from_samples(*source.topology, n, *source.samples, sampled.images);
@@ -419,8 +422,8 @@ SpectralMap zoomout_dense(const SpectralSide& source, const SpectralSide& target
   const FunctionalMapFit fit = fit_settings(source, target, options);
   SpectralMap result;
   result.c = sampled.c;
-  const RowMatrix source_rows = source.basis->leftCols(sampled.c.rows());
-  const RowMatrix target_rows = target.basis->leftCols(k);
+  const RowsView source_rows = source.basis->leftCols(sampled.c.rows());
+  const RowsView target_rows = target.basis->leftCols(k);
   RowMatrix pulled = times(source_rows, sampled.c, threads);  // source vertices in target coordinates
   recover_dense(pulled, target_rows, *target.topology,
                 starts_from_samples(*source.topology, static_cast<int>(source_rows.rows()), *source.samples,

@@ -8,6 +8,8 @@
 namespace isocorr {
 
 using SpectralRows = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+// Rows of a SpectralRows or of a block of its first columns, without a copy.
+using SpectralRowsView = Eigen::Ref<const SpectralRows, 0, Eigen::OuterStride<>>;
 
 struct FunctionalMapFit {
   // Eigenvalues of both bases (first k used; area-scaled like the bases). When both are
@@ -26,6 +28,7 @@ struct FunctionalMapFit {
 // (n pairs, so the weight does not depend on how many pairs there are; lambda_T,k, the
 // largest eigenvalue used, makes it scale-free; square C only), then the nearest orthogonal
 // matrix (for k < k', sqrt(k' / k) times the nearest one with orthonormal rows).
-Eigen::MatrixXf fit_functional_map(const SpectralRows& a, const SpectralRows& b, const FunctionalMapFit& fit = {});
+Eigen::MatrixXf fit_functional_map(const SpectralRowsView& a, const SpectralRowsView& b,
+                                   const FunctionalMapFit& fit = {});
 
 }  // namespace isocorr
