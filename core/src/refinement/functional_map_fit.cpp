@@ -141,11 +141,23 @@ Eigen::MatrixXf fit_functional_map(const SpectralRowsView& a, const SpectralRows
   };
   if (chunks == 1) {
     // A fit on samples (one chunk): its two products side by side, the same sums as one
-    // after the other (the polish's 31 fits on 2000 samples each left a core idle).
+    // after the other (the polish's 31 fits on 2000 samples each left a core idle). The
+    // right side costs twice the normal matrix (a full product against a symmetric one), so
+    // the worker that forms the normal matrix also takes its first `split` columns, about a
+    // quarter: 3.3 -> 2.5 ms per fit at k = 200. Column blocks of a multiple of 8 are
+    // summed exactly as in the whole product (Eigen blocks the inner dimension by its
+    // length alone).
     const Eigen::MatrixXd ad = a.cast<double>();
+    const Eigen::MatrixXd bd = b.cast<double>();
+    const Eigen::Index split = std::max<Eigen::Index>(0, (2 * target_k - k) / 4) / 8 * 8;
+    rhss[0].resize(k, target_k);
     parallel_for(2, fit.threads, [&](int task, int) {
-      if (task == 0) normal_of(ad, 0);
-      else rhss[0] = ad.transpose() * Eigen::MatrixXd(b.cast<double>());
+      if (task == 0) {
+        normal_of(ad, 0);
+        rhss[0].leftCols(split).noalias() = ad.transpose() * bd.leftCols(split);
+      } else {
+        rhss[0].rightCols(target_k - split).noalias() = ad.transpose() * bd.rightCols(target_k - split);
+      }
     });
   } else {
     parallel_for(chunks, fit.threads, [&](int chunk, int) {
