@@ -39,7 +39,8 @@ int match_locally(const MatchJobFiles& args) {
     control.on_progress = [&](const Progress& p) { printer(p); };
     control.cancel_requested = &g_interrupted;
     const MatchResult result = match_meshes(source.mesh, target.mesh, args.settings, control);
-    for (const auto& note : result.notes) spdlog::warn("{}", note);
+    for (const auto& warning : result.warnings) spdlog::warn("{}", warning);
+    for (const auto& note : result.notes) spdlog::info("{}", note);
 
     const MatchOutput& out = result.output;
     write_map(args.output, out.forward);

@@ -186,7 +186,7 @@ int main(int argc, char** argv) {
               std::printf("   %-13s: orientation %.2f curvature %.4f kappa %.3f distortion %.4f%s\n", names[j],
                           judged[j].orientation, judged[j].curvature, judged[j].scale, judged[j].distortion,
                           j == 1 ? (" | D_grd " + std::to_string(refined_score.mean_error)).c_str() : "");
-            for (const std::string& note : result.notes)
+            for (const std::string& note : result.summary().notes)
               if (note.find("map kept") != std::string::npos) std::printf("   %s\n", note.c_str());  // part or whole, and why
           }
           for (Tally* t : {&tally, &all}) {

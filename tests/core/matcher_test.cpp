@@ -82,6 +82,25 @@ TEST_F(MatcherOnBlob, ReportsProgressAndHonoursCancellation) {
   EXPECT_GT(reports.load(), 2);
 }
 
+// A repaired input is something to act on, set apart from the remarks on routine steps
+// (which a log shows as information, not as warnings).
+TEST_F(MatcherOnBlob, InputRepairsAreWarningsAndRoutineStepsAreNotes) {
+  TriangleMesh target = copy_->mesh;
+  target.vertices.push_back(target.vertices.front() + Vec3(5, 5, 5));  // used by no face
+  MatchSettings settings;
+  settings.threads = 2;
+  const MatchResult result = match_meshes(*blob_, target, settings);
+  ASSERT_EQ(result.warnings.size(), 1u);
+  EXPECT_EQ(result.warnings[0].rfind("target: ", 0), 0u) << result.warnings[0];
+  EXPECT_NE(result.warnings[0].find("dropped 1 vertex used by no face"), std::string::npos) << result.warnings[0];
+  EXPECT_FALSE(result.notes.empty());
+  for (const std::string& note : result.notes) EXPECT_EQ(note.find("dropped"), std::string::npos) << note;
+  EXPECT_EQ(result.summary().notes.front(), result.warnings[0]);
+
+  const MatchResult clean = match_meshes(*blob_, copy_->mesh, settings);
+  EXPECT_TRUE(clean.warnings.empty());
+}
+
 TEST(MatcherSettings, OutOfRangeSettingsAreInputErrors) {
   MatchSettings settings;
   settings.level0_samples = 2;

@@ -186,7 +186,7 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
   try {
     whole = match_complete(source, target, as_whole, whole_result, share_of(0.5, 0.5));
   } catch (const InputError& e) {
-    result.notes.push_back(method_name + ": the " + search_name + "'s map kept; the complete pipeline failed: " +
+    result.warnings.push_back(method_name + ": the " + search_name + "'s map kept; the complete pipeline failed: " +
                            e.what());
     return part;
   }
@@ -235,6 +235,7 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
   add_part_reverse_map(source, target, whole_evidence.scale, whole);
   whole_result.timings.insert(whole_result.timings.begin(), result.timings.begin(), result.timings.end());
   whole_result.notes.insert(whole_result.notes.begin(), result.notes.begin(), result.notes.end());
+  whole_result.warnings.insert(whole_result.warnings.begin(), result.warnings.begin(), result.warnings.end());
   whole_result.notes.push_back(why);
   whole_result.part_scale = whole_evidence.scale;
   whole_result.part_candidates = std::move(result.part_candidates);
@@ -289,8 +290,8 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
                                  : result.refined[result.refined_chosen].evidence.orientation;
   if (settings.method != MatchMethod::kFull)
     result.target_matched_share = matched_area_share(vertex_areas(target.mesh()), dense.reverse);
-  for (const auto& note : sc.repairs) result.notes.push_back("source: " + note);
-  for (const auto& note : tc.repairs) result.notes.push_back("target: " + note);
+  for (const auto& repair : sc.repairs) result.warnings.push_back("source: " + repair);
+  for (const auto& repair : tc.repairs) result.warnings.push_back("target: " + repair);
   control.report({"done", 1, 1, 1.0});
   return result;
 }
@@ -306,7 +307,9 @@ MatchSummary MatchResult::summary() const {
   s.tracked_maps = static_cast<int>(tracked.size());
   s.chosen_level0_rank = tracked.empty() ? 0 : tracked[chosen].level0_rank;
   s.timings = timings;
-  s.notes = notes;
+  // The API has one list: warnings first.
+  s.notes = warnings;
+  s.notes.insert(s.notes.end(), notes.begin(), notes.end());
   return s;
 }
 

@@ -87,6 +87,7 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
                       {"target_vertices_matched", matched},
                       {"search_candidates", candidates}};
   }
+  report["warnings"] = result.warnings;
   report["notes"] = result.notes;
   return report.dump(2);
 }

@@ -57,7 +57,10 @@ struct MatchResult {
   double dense_orientation = 0;           // fraction of source faces keeping handedness
   std::vector<StageTiming> timings;
   std::vector<StageTiming> refine_timings;  // refine = zoomout: the refine stage's steps
-  std::vector<std::string> notes;         // repairs and remarks, for the report
+  // What a user should act on (the input was repaired, a pipeline fell back), apart from
+  // the remarks on routine steps, so that a log can tell the two apart.
+  std::vector<std::string> warnings;
+  std::vector<std::string> notes;         // remarks on the steps taken, for the report
   // method = part: the source's scale per target unit, and the share of the target's area
   // the part's image covers (reverse map -1 elsewhere).
   double part_scale = 0;
