@@ -187,7 +187,7 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
     whole = match_complete(source, target, as_whole, whole_result, share_of(0.5, 0.5));
   } catch (const InputError& e) {
     result.warnings.push_back(method_name + ": the " + search_name + "'s map kept; the complete pipeline failed: " +
-                           e.what());
+                              e.what());
     return part;
   }
   const int threads = resolve_thread_count(settings.threads);
