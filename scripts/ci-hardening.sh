@@ -19,6 +19,9 @@ phase asan "$here/scripts/sanitize.sh" asan
 phase tsan "$here/scripts/sanitize.sh" tsan
 printf '=== hardening times\n'
 printf '  %s\n' "${timings[@]}"
+# Repeated here because CI shows only the end of its output.
+fuzz_summary="$here/build-fuzz/findings/summary.txt"
+[ -f "$fuzz_summary" ] && { echo "=== fuzz findings"; cat "$fuzz_summary"; }
 if [ ${#failed[@]} -ne 0 ]; then
   echo "hardening: FAILED: ${failed[*]}" >&2
   exit 1
