@@ -29,6 +29,7 @@ targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=(fuzz_mesh_off fuzz_mesh_obj fuzz_mesh_ply fuzz_mesh_upload fuzz_map_file
                                       fuzz_settings_json fuzz_job_record)
 
+# One input may take 10 s and 512 MB in one allocation, 2 GB in all; more is a finding.
 limits=(-timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=512 -detect_leaks=1)
 findings="$build/findings"
 summary="$findings/summary.txt"
@@ -68,7 +69,6 @@ for target in "${targets[@]}"; do
   for d in ${seed_dirs[$target]}; do inputs+=("$build/seeds/$d" "$here/fuzz/seeds/$d"); done
   touch "$findings/.start-$target"
   echo "fuzz: $target for ${seconds}s"
-  # One input may take 10 s and 512 MB in one allocation, 2 GB in all; more is a finding.
   if ! "$build/fuzz/$target" -max_total_time="$seconds" "${limits[@]}" -print_final_stats=1 \
         -artifact_prefix="$findings/$target-" "${inputs[@]}" >"$findings/$target.log" 2>&1; then
     tail -n 60 "$findings/$target.log"
