@@ -169,14 +169,14 @@ grpc::Status JobServiceImpl::DownloadResult(grpc::ServerContext* context, const 
       switch (part) {
         case ResultPart::kForwardMap:
         case ResultPart::kReverseMap:
-          written = stream_elements(*writer, proto_part, results.read_map(id, part), add_index);
+          written = stream_elements(*writer, proto_part, results.read_map(job, part), add_index);
           break;
         case ResultPart::kForwardConfidence:
         case ResultPart::kReverseConfidence:
-          written = stream_elements(*writer, proto_part, results.read_confidence(id, part), add_value);
+          written = stream_elements(*writer, proto_part, results.read_confidence(job, part), add_value);
           break;
         case ResultPart::kReport: {
-          const std::string report = results.read_report(id);
+          const std::string report = results.read_report(job);
           for (size_t offset = 0; written && (offset < report.size() || offset == 0);
                offset += kReportBytesPerChunk) {
             v1::ResultChunk chunk;

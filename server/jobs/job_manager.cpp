@@ -239,7 +239,7 @@ void JobManager::run(Slot& slot) {
   JobRecord final_record;
   try {
     final_record = run_to_conclusion(job, meshes_, cache_, control,
-                                     [&](const MatchOutput& output) { journal_.save_result(job.id, output); });
+                                     [&](const MatchOutput& output) { journal_.save_result(job, output); });
   } catch (const Cancelled&) {
     std::unique_lock lock(mutex_);
     if (stopping_) {

@@ -157,7 +157,7 @@ void SharedJobManager::run(const JobRecord& job) {
   std::optional<JobRecord> final_record;
   try {
     final_record = run_to_conclusion(job, meshes_, cache_, control,
-                                     [&](const MatchOutput& output) { result = encode_result(output); });
+                                     [&](const MatchOutput& output) { result = encode_result(job, output); });
   } catch (const Cancelled&) {
     bool stopping = false;
     {

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "postgres/pg_job_store.h"
 #include "service_error.h"
 
 namespace isocorr::server {
@@ -52,6 +53,10 @@ void PgDatabase::create_schema() {
       throw ServiceError(Kind::kFailedPrecondition,
                          "the database holds schema version " + versions[0][0].as<std::string>() +
                              ", newer than this server's " + std::to_string(kPgSchemaVersion));
+    } else if (versions[0][0].as<int>() < kPgSchemaVersion) {
+      PgJobStore::bind_results_to_their_jobs(txn);  // version 2: manifests name their job
+      txn.exec_params("UPDATE isocorr_schema SET version = $1", kPgSchemaVersion);
+      spdlog::info("store: upgraded the PostgreSQL schema to version {}", kPgSchemaVersion);
     }
   });
 }

@@ -29,7 +29,7 @@
 
 namespace isocorr::server {
 
-inline constexpr int kPgSchemaVersion = 1;
+inline constexpr int kPgSchemaVersion = 2;
 
 class PgDatabase {
  public:

@@ -232,6 +232,28 @@ void PgJobStore::requeue(const JobRecord& running, const std::string& replica) {
   });
 }
 
+void PgJobStore::bind_results_to_their_jobs(pqxx::work& txn) {
+  const pqxx::result rows = txn.exec(
+      "SELECT r.job_id, r.manifest, j.record FROM isocorr_results r JOIN isocorr_jobs j ON j.id = r.job_id "
+      "WHERE r.set_aside IS NULL");
+  for (const auto& row : rows) {
+    const std::string id = row["job_id"].as<std::string>();
+    try {
+      json manifest = unseal_json(row["manifest"].as<std::string>());
+      if (manifest.contains("job")) continue;
+      const JobRecord job = record_from_json(unseal_json(row["record"].as<std::string>()));
+      if (job.id != id) throw std::runtime_error("its record names another job");
+      bind_manifest(manifest, job);
+      txn.exec_params("UPDATE isocorr_results SET manifest = $2 WHERE job_id = $1", id, seal_json(manifest));
+      spdlog::info("[job {}] result stored before manifests named their job: bound to its job", id);
+    } catch (const pqxx::failure&) {
+      throw;
+    } catch (const std::exception& e) {  // left unbound: reading it answers DATA_LOSS
+      spdlog::error("[job {}] its result cannot be bound to its job: {}", id, e.what());
+    }
+  }
+}
+
 void PgJobStore::result_lost(const std::string& id, const std::string& problem) const {
   database_.transaction([&](pqxx::work& txn) {
     txn.exec_params("UPDATE isocorr_results SET set_aside = $2 WHERE job_id = $1 AND set_aside IS NULL", id, problem);
@@ -240,7 +262,8 @@ void PgJobStore::result_lost(const std::string& id, const std::string& problem) 
                                           problem + "); run the job again");
 }
 
-std::string PgJobStore::read_checked_part(const std::string& id, ResultPart part) const {
+std::string PgJobStore::read_checked_part(const JobRecord& job, ResultPart part) const {
+  const std::string& id = job.id;
   const std::string name(result_part_name(part));
   const pqxx::result rows = database_.transaction([&](pqxx::work& txn) {
     return txn.exec_params(
@@ -253,7 +276,9 @@ std::string PgJobStore::read_checked_part(const std::string& id, ResultPart part
   if (rows[0]["bytes"].is_null()) result_lost(id, name + " is missing");
   const std::string bytes = pqxx::binarystring(rows[0]["bytes"]).str();
   try {
-    const std::string problem = result_part_problem(unseal_json(rows[0]["manifest"].as<std::string>()), part, bytes);
+    const json manifest = unseal_json(rows[0]["manifest"].as<std::string>());
+    std::string problem = result_binding_problem(manifest, job);
+    if (problem.empty()) problem = result_part_problem(manifest, part, bytes);
     if (!problem.empty()) result_lost(id, problem);
   } catch (const ServiceError&) {
     throw;

@@ -58,8 +58,12 @@ class PgJobStore final : public ResultReader {
   // Puts a running job back in the queue without counting the attempt (graceful stop).
   void requeue(const JobRecord& running, const std::string& replica);
 
+  // The schema upgrade to manifests that name their job: binds each result written before
+  // to the record of its job (once, under the schema lock).
+  static void bind_results_to_their_jobs(pqxx::work& txn);
+
  protected:
-  std::string read_checked_part(const std::string& id, ResultPart part) const override;
+  std::string read_checked_part(const JobRecord& job, ResultPart part) const override;
 
  private:
   // Writes record, state and version+1 of a row already locked.

@@ -38,15 +38,28 @@ MeshStore::MeshStore(const fs::path& data_dir, int64_t max_mesh_bytes)
 }
 
 void MeshStore::remove_leftovers() {
-  // A commit interrupted by a crash or a full disk: .json.tmp files, and .mesh files whose
-  // description never reached the disk (never acknowledged).
   for (const auto& entry : fs::directory_iterator(dir_)) {
     const fs::path& path = entry.path();
-    const bool unacknowledged = path.extension() == ".tmp" ||
-                                (path.extension() == ".mesh" && !fs::exists(info_path(path.stem().string())));
-    if (!unacknowledged) continue;
-    spdlog::info("storage: removing {} left by an unfinished upload", path.string());
-    fs::remove(path);
+    const std::string name = path.filename().string();
+    if (name.ends_with(kPendingSuffix)) {
+      const std::string digest = name.substr(0, name.size() - std::string_view(kPendingSuffix).size());
+      if (fs::exists(info_path(digest)) && !fs::exists(mesh_path(digest))) {
+        // Described but not yet renamed (a commit stopped between the two, or a removal
+        // before it dropped the description): the bytes are checked when read.
+        fs::rename(path, mesh_path(digest));
+        spdlog::info("storage: finishing the store of mesh {}", digest);
+      } else {
+        spdlog::info("storage: removing {} left by an unfinished upload or removal", path.string());
+        fs::remove(path);
+      }
+    } else if (path.extension() == ".tmp") {
+      spdlog::info("storage: removing {} left by an unfinished write", path.string());
+      fs::remove(path);
+    } else if (path.extension() == ".mesh" && !fs::exists(info_path(path.stem().string()))) {
+      // Bytes reach their final name only after their description is on disk: this one
+      // was lost. Kept for the operator and reported as lost, never deleted.
+      quarantine_.set_aside("meshes", path, "its description is missing");
+    }
   }
 }
 
@@ -85,15 +98,18 @@ MeshInfo DirectoryMeshUpload::store(const MeshInfo& info) {
   // A concurrent upload won; a corrupted copy is quarantined (and replaced below).
   MeshStore::Lookup existing = store_.quarantine_if_corrupted(digest_, /*with_bytes=*/true);
   if (existing.found == MeshStore::Found::kIntact) return existing.info;
-  const fs::path mesh_path = store_.mesh_path(digest_);
+  // The bytes wait under a pending name until their description is on disk, so that a
+  // .mesh without its .json is never an unfinished upload but lost metadata.
+  const fs::path pending = store_.pending_path(digest_), mesh_path = store_.mesh_path(digest_);
   try {
     fsync_path(temp_);
-    guard_storage_write("cannot store", mesh_path, [&] { fs::rename(temp_, mesh_path); });
-    fsync_path(store_.dir_);
+    guard_storage_write("cannot store", pending, [&] { fs::rename(temp_, pending); });
     write_file_durably(store_.info_path(digest_), seal_json(mesh_info_to_json(info)));
+    guard_storage_write("cannot store", mesh_path, [&] { fs::rename(pending, mesh_path); });
+    fsync_path(store_.dir_);
   } catch (...) {
     std::error_code ignored;  // not acknowledged: nothing may stay behind
-    fs::remove(mesh_path, ignored);
+    for (const fs::path& path : {store_.info_path(digest_), mesh_path, pending}) fs::remove(path, ignored);
     throw;
   }
   if (existing.found == MeshStore::Found::kQuarantined) {  // repaired: no longer reported lost
@@ -205,9 +221,12 @@ std::vector<MeshInfo> MeshStore::list() {
 bool MeshStore::remove(const std::string& digest) {
   std::lock_guard lock(mutex_);
   if (lookup(digest, false).found == Found::kAbsent) return false;
+  // Bytes first to their pending name: whatever a crash interrupts, the next start either
+  // keeps the whole mesh or removes it, and never finds bytes without a description.
   guard_storage_write("cannot remove", info_path(digest), [&] {
+    if (fs::exists(mesh_path(digest))) fs::rename(mesh_path(digest), pending_path(digest));
     fs::remove(info_path(digest));  // the mesh is gone once its description is
-    fs::remove(mesh_path(digest));
+    fs::remove(pending_path(digest));
   });
   fsync_path(dir_);
   return true;

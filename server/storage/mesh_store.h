@@ -1,6 +1,9 @@
 // Content-addressed mesh store under <data-dir>/meshes: the file bytes as uploaded
 // (<sha256>.mesh) and what the parser found (<sha256>.json, sealed). A mesh exists once its
 // .json is on disk; both are written durably, so an acknowledged upload survives a kill -9.
+// The bytes take their final name only after the .json is written (until then they are
+// <sha256>.mesh.pending), so a .mesh found without its .json at start is a mesh whose
+// description was lost: it is quarantined and reported as DATA_LOSS, never deleted.
 //
 // Stored bytes are checked against their name whenever they are read. A mesh found
 // corrupted is moved to quarantine/meshes/ and reported as ServiceError(kDataLoss) from
@@ -57,6 +60,8 @@ class MeshStore final : public MeshRepository {
   friend class DirectoryMeshUpload;
   std::filesystem::path mesh_path(const std::string& digest) const { return dir_ / (digest + ".mesh"); }
   std::filesystem::path info_path(const std::string& digest) const { return dir_ / (digest + ".json"); }
+  static constexpr const char* kPendingSuffix = ".mesh.pending";
+  std::filesystem::path pending_path(const std::string& digest) const { return dir_ / (digest + kPendingSuffix); }
 
   enum class Found { kAbsent, kIntact, kCorrupted, kQuarantined };
   struct Lookup {

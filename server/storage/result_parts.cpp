@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "isocorr/output/map_files.h"
+#include "isocorr/settings/settings_json.h"
 #include "isocorr/util/sha256.h"
 
 namespace isocorr::server {
@@ -24,9 +25,28 @@ json manifest_of(const std::map<ResultPart, std::string>& parts, size_t source_v
   return {{"source_vertices", source_vertices}, {"target_vertices", target_vertices}, {"parts", entries}};
 }
 
+std::string settings_digest(const MatchSettings& settings) { return sha256_hex(settings_to_json(settings).dump()); }
+
 }  // namespace
 
-EncodedResult encode_result(const MatchOutput& result) {
+void bind_manifest(json& manifest, const JobRecord& job) {
+  manifest["job"] = {{"id", job.id},
+                     {"source", job.source_digest},
+                     {"target", job.target_digest},
+                     {"settings_sha256", settings_digest(job.settings)}};
+}
+
+std::string result_binding_problem(const json& manifest, const JobRecord& job) {
+  if (!manifest.contains("job")) return "its manifest names no job";
+  const json& made_for = manifest.at("job");
+  if (made_for.value("id", "") != job.id) return "it was made for jobs/" + made_for.value("id", "?");
+  if (made_for.value("source", "") != job.source_digest || made_for.value("target", "") != job.target_digest)
+    return "it was made from other meshes";
+  if (made_for.value("settings_sha256", "") != settings_digest(job.settings)) return "it was made with other settings";
+  return "";
+}
+
+EncodedResult encode_result(const JobRecord& job, const MatchOutput& result) {
   EncodedResult encoded;
   encoded.parts[ResultPart::kForwardMap] = to_bytes(result.forward);
   encoded.parts[ResultPart::kReverseMap] = to_bytes(result.reverse);
@@ -34,10 +54,11 @@ EncodedResult encode_result(const MatchOutput& result) {
   encoded.parts[ResultPart::kReverseConfidence] = to_bytes(result.reverse_confidence);
   encoded.parts[ResultPart::kReport] = result.report_json;
   encoded.manifest = manifest_of(encoded.parts, result.forward.size(), result.reverse.size());
+  bind_manifest(encoded.manifest, job);
   return encoded;
 }
 
-json manifest_of_unchecked_parts(const std::map<ResultPart, std::string>& bytes) {
+json manifest_of_unchecked_parts(const JobRecord& job, const std::map<ResultPart, std::string>& bytes) {
   const std::string& forward_bytes = bytes.at(ResultPart::kForwardMap);
   const std::string& reverse_bytes = bytes.at(ResultPart::kReverseMap);
   const std::vector<int> forward = values_from_bytes<int>(forward_bytes);
@@ -51,7 +72,9 @@ json manifest_of_unchecked_parts(const std::map<ResultPart, std::string>& bytes)
   for (const int index : forward) whole = whole && index >= 0 && index < static_cast<int64_t>(reverse.size());
   for (const int index : reverse) whole = whole && index >= 0 && index < static_cast<int64_t>(forward.size());
   if (!whole) throw std::runtime_error("its parts do not fit together");
-  return manifest_of(bytes, forward.size(), reverse.size());
+  json manifest = manifest_of(bytes, forward.size(), reverse.size());
+  bind_manifest(manifest, job);
+  return manifest;
 }
 
 std::string result_part_problem(const json& manifest, ResultPart part, const std::string& bytes) {

@@ -39,7 +39,7 @@ TEST_F(JobJournalTest, RecordsAndResultsSurviveReopening) {
   result.report_json = "{\"final\":{}}";
   {
     JobJournal journal(dir_);
-    journal.save_result(job.id, result);
+    journal.save_result(job, result);
     journal.save(job);
   }
   // A half-written result of a crash is swept away at start-up.
@@ -62,11 +62,11 @@ TEST_F(JobJournalTest, RecordsAndResultsSurviveReopening) {
   EXPECT_EQ(back.summary.timings[0].stage, "dense");
 
   EXPECT_TRUE(reopened.has_result(job.id));
-  EXPECT_EQ(reopened.read_map(job.id, ResultPart::kForwardMap), result.forward);
-  EXPECT_EQ(reopened.read_map(job.id, ResultPart::kReverseMap), result.reverse);
-  EXPECT_EQ(reopened.read_confidence(job.id, ResultPart::kForwardConfidence), result.forward_confidence);
-  EXPECT_EQ(reopened.read_confidence(job.id, ResultPart::kReverseConfidence), result.reverse_confidence);
-  EXPECT_EQ(reopened.read_report(job.id), result.report_json);
+  EXPECT_EQ(reopened.read_map(job, ResultPart::kForwardMap), result.forward);
+  EXPECT_EQ(reopened.read_map(job, ResultPart::kReverseMap), result.reverse);
+  EXPECT_EQ(reopened.read_confidence(job, ResultPart::kForwardConfidence), result.forward_confidence);
+  EXPECT_EQ(reopened.read_confidence(job, ResultPart::kReverseConfidence), result.reverse_confidence);
+  EXPECT_EQ(reopened.read_report(job), result.report_json);
 }
 
 }  // namespace

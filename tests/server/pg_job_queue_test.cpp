@@ -1,7 +1,8 @@
 // The shared store's job queue (PgJobStore) in process, on a loopback PostgreSQL: claims
 // never hand one job to two replicas, an expired lease passes the job on and the replica
 // that lost it can no longer write it, attempts are bounded, a cancel is seen at renewal,
-// and the schema is created once however often replicas start.
+// the schema is created once however often replicas start, and results are served only to
+// their job (those stored before manifests named their job are bound at the upgrade).
 #include <chrono>
 #include <mutex>
 #include <set>
@@ -13,6 +14,7 @@
 #include "postgres/pg_database.h"
 #include "postgres/pg_job_store.h"
 #include "service_error.h"
+#include "storage/sealed_json.h"
 
 namespace isocorr::testing {
 namespace {
@@ -92,13 +94,13 @@ TEST_F(PgJobQueue, AnExpiredLeasePassesTheJobOnAndTheFormerHolderCannotWriteIt) 
   output.reverse = {1, 0, 2};
   output.forward_confidence = output.reverse_confidence = {0.f, 0.f, 0.f};
   output.report_json = "{}";
-  const server::EncodedResult result = server::encode_result(output);
   JobRecord done = *second;
+  const server::EncodedResult result = server::encode_result(done, output);
   done.state = JobState::kSucceeded;
   EXPECT_TRUE(store_->renew(queued.id, "replica-b", kLongLease, {}).held);
   EXPECT_TRUE(store_->finish(done, "replica-b", &result));
   EXPECT_EQ(store_->find(queued.id)->state, JobState::kSucceeded);
-  EXPECT_EQ(store_->read_map(queued.id, ResultPart::kForwardMap), output.forward);
+  EXPECT_EQ(store_->read_map(done, ResultPart::kForwardMap), output.forward);
 }
 
 TEST_F(PgJobQueue, AJobWhoseReplicasKeepDyingFailsAfterMaxAttempts) {
@@ -128,9 +130,40 @@ TEST_F(PgJobQueue, ACancelIsSeenByTheRunningReplicaAtItsNextRenewal) {
 
 TEST_F(PgJobQueue, TheSchemaIsCreatedOnceHoweverOftenReplicasStart) {
   for (int i = 0; i < 3; ++i) server::PgDatabase again(database_url());
-  EXPECT_EQ(sql("SELECT count(*), max(version) FROM isocorr_schema").out, "1|1\n");
+  EXPECT_EQ(sql("SELECT count(*), max(version) FROM isocorr_schema").out,
+            "1|" + std::to_string(server::kPgSchemaVersion) + "\n");
   ASSERT_EQ(sql("UPDATE isocorr_schema SET version = 99").exit_code, 0);
   EXPECT_THROW(server::PgDatabase newer(database_url()), std::runtime_error);
+}
+
+TEST_F(PgJobQueue, AResultIsServedOnlyToItsJobAndOlderResultsAreBoundAtTheUpgrade) {
+  queued_job(1000);
+  JobRecord done = *store_->claim("replica-a", kLongLease, 3);
+  MatchOutput output;
+  output.forward = output.reverse = {1, 0};
+  output.forward_confidence = output.reverse_confidence = {0.f, 0.f};
+  output.report_json = "{}";
+  const server::EncodedResult result = server::encode_result(done, output);
+  done.state = JobState::kSucceeded;
+  ASSERT_TRUE(store_->finish(done, "replica-a", &result));
+  JobRecord other_settings = done;
+  other_settings.settings.max_tracked += 1;
+  EXPECT_THROW(store_->read_map(other_settings, ResultPart::kForwardMap), server::ServiceError);
+
+  // As schema version 1 stored it: a manifest that names no job (the refusal above set the
+  // result aside; the upgrade binds only results still in service).
+  nlohmann::json manifest = result.manifest;
+  manifest.erase("job");
+  ASSERT_EQ(sql("UPDATE isocorr_results SET set_aside = NULL, manifest = $m$" + server::seal_json(manifest) +
+                "$m$ WHERE job_id = '" + done.id + "'")
+                .exit_code,
+            0);
+  EXPECT_THROW(store_->read_map(done, ResultPart::kForwardMap), server::ServiceError);  // unbound: not served
+  ASSERT_EQ(sql("UPDATE isocorr_results SET set_aside = NULL").exit_code, 0);
+  ASSERT_EQ(sql("UPDATE isocorr_schema SET version = 1").exit_code, 0);
+  server::PgDatabase upgraded(database_url());
+  EXPECT_EQ(store_->read_map(done, ResultPart::kForwardMap), output.forward);
+  EXPECT_EQ(sql("SELECT version FROM isocorr_schema").out, std::to_string(server::kPgSchemaVersion) + "\n");
 }
 
 }  // namespace

@@ -90,6 +90,29 @@ class StoreIntegrity : public DataDirTest {
     result.report_json = "{\"final\":{}}";
     return result;
   }
+
+  // At two starts in a row, the journal's only job is `id`, FAILED with DATA_LOSS saying `why`.
+  void expect_reported_lost(const std::string& id, const std::string& why) {
+    for (int start = 0; start < 2; ++start) {
+      JobJournal journal(dir_);
+      const std::vector<JobRecord> jobs = journal.load_all();
+      ASSERT_EQ(jobs.size(), 1u);
+      EXPECT_EQ(jobs[0].id, id);
+      EXPECT_EQ(jobs[0].state, JobState::kFailed);
+      EXPECT_EQ(jobs[0].error_code, ErrorCode::kDataLoss);
+      EXPECT_NE(jobs[0].error_message.find(why), std::string::npos) << jobs[0].error_message;
+    }
+  }
+
+  // The job a result belongs to (its manifest names it).
+  static JobRecord job_named(const std::string& id) {
+    JobRecord job;
+    job.id = id;
+    job.state = JobState::kSucceeded;
+    job.source_digest = std::string(64, 'a');
+    job.target_digest = std::string(64, 'b');
+    return job;
+  }
 };
 
 TEST_F(StoreIntegrity, CorruptedMeshIsDataLossQuarantinedAndRepairedByUpload) {
@@ -130,10 +153,10 @@ TEST_F(StoreIntegrity, UnacknowledgedUploadLeftoversAreRemovedAtStart) {
   const std::string bytes = off_text(icosphere(2));
   { MeshStore store(dir_, 1 << 24); upload(store, bytes); }
   const std::string orphan(64, 'c');
-  std::ofstream(dir_ / "meshes" / (orphan + ".mesh")) << "OFF";
+  std::ofstream(dir_ / "meshes" / (orphan + ".mesh.pending")) << "OFF";
   std::ofstream(dir_ / "meshes" / (orphan + ".json.tmp")) << "{";
   MeshStore reopened(dir_, 1 << 24);
-  EXPECT_FALSE(fs::exists(dir_ / "meshes" / (orphan + ".mesh")));
+  EXPECT_FALSE(fs::exists(dir_ / "meshes" / (orphan + ".mesh.pending")));
   EXPECT_FALSE(fs::exists(dir_ / "meshes" / (orphan + ".json.tmp")));
   EXPECT_TRUE(reopened.get(sha256_hex(bytes)));
 }
@@ -183,77 +206,95 @@ TEST_F(StoreIntegrity, UnreadableJobRecordBecomesAFailedJobNotAVanishedOne) {
     journal.save(job);
   }
   flip_byte(dir_ / "jobs" / (job.id + ".json"));
-  for (int start = 0; start < 2; ++start) {  // and it stays reported after another restart
-    JobJournal journal(dir_);
-    const std::vector<JobRecord> jobs = journal.load_all();
-    ASSERT_EQ(jobs.size(), 1u);
-    EXPECT_EQ(jobs[0].id, job.id);
-    EXPECT_EQ(jobs[0].state, JobState::kFailed);
-    EXPECT_EQ(jobs[0].error_code, ErrorCode::kDataLoss);
-    EXPECT_NE(jobs[0].error_message.find("corrupted"), std::string::npos);
-  }
+  expect_reported_lost(job.id, "corrupted");
   EXPECT_TRUE(fs::exists(dir_ / "quarantine" / "jobs" / (job.id + ".json")));
 }
 
+TEST_F(StoreIntegrity, AJobWhoseRecordIsLostIsReportedAsDataLossWithItsResultKept) {
+  const JobRecord job = job_named("00000000000000e1");
+  {
+    JobJournal journal(dir_);
+    journal.save(job);
+    journal.save_result(job, small_result());
+  }
+  fs::remove(dir_ / "jobs" / (job.id + ".json"));
+  expect_reported_lost(job.id, "lost");
+  EXPECT_TRUE(fs::exists(dir_ / "quarantine" / "results" / job.id / "manifest.json"));
+}
+
 TEST_F(StoreIntegrity, OverwrittenResultIndexIsDataLossAndQuarantined) {
-  const std::string id = "00000000000000aa";
+  const JobRecord job = job_named("00000000000000aa");
+  const std::string& id = job.id;
   JobJournal journal(dir_);
-  journal.save_result(id, small_result());
-  EXPECT_EQ(journal.read_map(id, ResultPart::kForwardMap), small_result().forward);
+  journal.save_result(job, small_result());
+  EXPECT_EQ(journal.read_map(job, ResultPart::kForwardMap), small_result().forward);
   // A forward map with an entry overwritten by INT_MAX: the part no longer matches its digest.
   std::string forward = read_whole_file(dir_ / "results" / id / "forward.i32");
   const int huge = INT_MAX;
   std::memcpy(forward.data(), &huge, sizeof huge);
   std::ofstream(dir_ / "results" / id / "forward.i32", std::ios::binary) << forward;
   std::string message;
-  EXPECT_EQ(kind_thrown([&] { journal.read_map(id, ResultPart::kForwardMap); }, &message), Kind::kDataLoss);
+  EXPECT_EQ(kind_thrown([&] { journal.read_map(job, ResultPart::kForwardMap); }, &message), Kind::kDataLoss);
   EXPECT_NE(message.find("sha256"), std::string::npos) << message;
   EXPECT_TRUE(fs::exists(dir_ / "quarantine" / "results" / id / "forward.i32"));
   EXPECT_FALSE(fs::exists(dir_ / "results" / id));
   // Gone from results/: still DATA_LOSS, not an internal error.
-  EXPECT_EQ(kind_thrown([&] { journal.read_report(id); }), Kind::kDataLoss);
+  EXPECT_EQ(kind_thrown([&] { journal.read_report(job); }), Kind::kDataLoss);
 }
 
 TEST_F(StoreIntegrity, TruncatedResultPartIsDataLoss) {
-  const std::string id = "00000000000000bb";
+  const JobRecord job = job_named("00000000000000bb");
   JobJournal journal(dir_);
-  journal.save_result(id, small_result());
-  fs::resize_file(dir_ / "results" / id / "reverse.i32", 6);
+  journal.save_result(job, small_result());
+  fs::resize_file(dir_ / "results" / job.id / "reverse.i32", 6);
   std::string message;
-  EXPECT_EQ(kind_thrown([&] { journal.read_map(id, ResultPart::kReverseMap); }, &message), Kind::kDataLoss);
+  EXPECT_EQ(kind_thrown([&] { journal.read_map(job, ResultPart::kReverseMap); }, &message), Kind::kDataLoss);
   EXPECT_NE(message.find("6 bytes, not 12"), std::string::npos) << message;
 }
 
-TEST_F(StoreIntegrity, ResultsFromBeforeManifestsAreAdoptedWhenWholeAndSetAsideWhenNot) {
-  const std::string whole = "00000000000000cc", broken = "00000000000000dd";
+TEST_F(StoreIntegrity, ResultsFromBeforeManifestsAreAdoptedOnceWhenWholeAndSetAsideWhenNot) {
+  const JobRecord whole = job_named("00000000000000cc"), broken = job_named("00000000000000dd");
   {
     JobJournal journal(dir_);
-    journal.save_result(whole, small_result());
-    journal.save_result(broken, small_result());
+    for (const JobRecord& job : {whole, broken}) {
+      journal.save(job);
+      journal.save_result(job, small_result());
+    }
   }
-  fs::remove(dir_ / "results" / whole / "manifest.json");
-  fs::remove(dir_ / "results" / broken / "manifest.json");
-  std::string forward = read_whole_file(dir_ / "results" / broken / "forward.i32");
+  // A data directory as a server from before manifests left it: no layout file, no manifests.
+  fs::remove(dir_ / "layout");
+  fs::remove(dir_ / "results" / whole.id / "manifest.json");
+  fs::remove(dir_ / "results" / broken.id / "manifest.json");
+  std::string forward = read_whole_file(dir_ / "results" / broken.id / "forward.i32");
   const int outside = 3;  // the reverse map has 3 entries: index 3 is outside the target
   std::memcpy(forward.data(), &outside, sizeof outside);
-  std::ofstream(dir_ / "results" / broken / "forward.i32", std::ios::binary) << forward;
+  std::ofstream(dir_ / "results" / broken.id / "forward.i32", std::ios::binary) << forward;
 
-  JobJournal journal(dir_);  // a restart of a server written before manifests
-  EXPECT_EQ(journal.read_map(whole, ResultPart::kForwardMap), small_result().forward);
-  EXPECT_EQ(journal.read_report(whole), small_result().report_json);
-  EXPECT_TRUE(fs::exists(dir_ / "results" / whole / "manifest.json"));
-  EXPECT_EQ(kind_thrown([&] { journal.read_map(broken, ResultPart::kForwardMap); }), Kind::kDataLoss);
-  EXPECT_TRUE(fs::exists(dir_ / "quarantine" / "results" / broken / "forward.i32"));
+  {
+    JobJournal journal(dir_);  // the first start of a server that binds manifests
+    EXPECT_EQ(journal.read_map(whole, ResultPart::kForwardMap), small_result().forward);
+    EXPECT_EQ(journal.read_report(whole), small_result().report_json);
+    EXPECT_TRUE(fs::exists(dir_ / "results" / whole.id / "manifest.json"));
+    EXPECT_EQ(kind_thrown([&] { journal.read_map(broken, ResultPart::kForwardMap); }), Kind::kDataLoss);
+    EXPECT_TRUE(fs::exists(dir_ / "quarantine" / "results" / broken.id / "forward.i32"));
+    EXPECT_TRUE(fs::exists(dir_ / "layout"));
+  }
+  // Adopted once: a manifest lost after the upgrade is not made again from the parts.
+  fs::remove(dir_ / "results" / whole.id / "manifest.json");
+  JobJournal journal(dir_);
+  EXPECT_EQ(kind_thrown([&] { journal.read_map(whole, ResultPart::kForwardMap); }), Kind::kDataLoss);
+  EXPECT_FALSE(fs::exists(dir_ / "results" / whole.id / "manifest.json"));
+  EXPECT_TRUE(fs::exists(dir_ / "quarantine" / "results" / whole.id / "forward.i32"));
 }
 
 TEST_F(StoreIntegrity, ResultOnFullDiskIsResourceExhaustedAndLeavesNoTemporaryDirectory) {
-  const std::string id = "00000000000000cc";
   MatchOutput big = small_result();
   big.forward.assign(4096, 0);
   JobJournal journal(dir_);
   {
     FileSizeLimit limit(8192);
-    EXPECT_EQ(kind_thrown([&] { journal.save_result(id, big); }), Kind::kResourceExhausted);
+    EXPECT_EQ(kind_thrown([&] { journal.save_result(job_named("00000000000000cc"), big); }),
+              Kind::kResourceExhausted);
   }
   EXPECT_TRUE(fs::is_empty(dir_ / "results"));
   EXPECT_TRUE(files_ending(dir_ / "jobs", ".tmp").empty());
