@@ -4,6 +4,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "api/error_details.h"
+#include "api/request_limits.h"
 #include "codec/call_metadata.h"
 #include "isocorr/util/error.h"
 #include "metrics/server_metrics.h"
@@ -36,21 +38,28 @@ grpc::Status guarded_call(const char* method, grpc::ServerContext& context, cons
   context.AddInitialMetadata(api::kRequestIdKey, call.request_id);
   context.AddTrailingMetadata(api::kRequestIdKey, call.request_id);
   grpc::Status status = auth.check(context);
+  std::string reason, field;  // of a DetailedError
   if (status.ok()) {
     try {
       status = body(call);
     } catch (const ServiceError& e) {
       status = grpc::Status(code_for(e.kind()), e.what());
+      if (const auto* detailed = dynamic_cast<const DetailedError*>(&e)) {
+        reason = detailed->reason();
+        field = detailed->field();
+      }
     } catch (const InputError& e) {
       status = grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, e.what());
     } catch (const std::exception& e) {
-      spdlog::error("[{}] {} internal error: {}", call.request_id, method, e.what());
+      spdlog::error("[{}] {} internal error: {}", call.request_id, method, escape_text(e.what()));
       // The text may name server files: it stays in the log, the caller gets the request id.
       std::string message = "internal error (request ";
       message.append(call.request_id).append("; the server log has the details)");
       status = grpc::Status(grpc::StatusCode::INTERNAL, message);
     }
   }
+  // Messages may quote what the client sent: escaped before they reach the client or the log.
+  if (!status.ok()) status = with_details(status, reason, field, call.request_id);
   server_metrics().rpcs.with({method, api::status_code_name(status.error_code())}).add();
   if (status.ok())
     spdlog::info("[{}] {} ok", call.request_id, method);

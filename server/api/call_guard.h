@@ -18,7 +18,8 @@ struct CallInfo {
 
 // Runs `body` when the token is valid. ServiceError kinds map to INVALID_ARGUMENT,
 // NOT_FOUND, RESOURCE_EXHAUSTED, FAILED_PRECONDITION and UNAVAILABLE; InputError to
-// INVALID_ARGUMENT; anything else to INTERNAL (logged).
+// INVALID_ARGUMENT; anything else to INTERNAL (logged). Every error leaves with its message
+// escaped and its details (error_details.h).
 grpc::Status guarded_call(const char* method, grpc::ServerContext& context, const TokenAuth& auth,
                           const std::function<grpc::Status(const CallInfo&)>& body);
 

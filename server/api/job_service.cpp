@@ -4,11 +4,14 @@
 #include <chrono>
 
 #include "api/call_guard.h"
+#include "api/error_details.h"
 #include "api/paging.h"
 #include "api/request_limits.h"
 #include "api/resource_codec.h"
 #include "codec/result_part_codec.h"
 #include "codec/settings_codec.h"
+#include "isocorr/settings/settings_schema.h"
+#include "isocorr/util/error.h"
 #include "service_error.h"
 
 namespace isocorr::server {
@@ -26,7 +29,7 @@ std::string require_job_id(const std::string& name) {
   require_bounded("name", name, kMaxNameBytes);
   const std::string id = job_id_from_name(name);
   if (id.empty())
-    throw ServiceError(Kind::kInvalidArgument, "job names look like jobs/{id}, got " + quoted_prefix(name));
+    throw field_error("name", "INVALID_NAME", "job names look like jobs/{id}, got " + quoted_prefix(name));
   return id;
 }
 
@@ -34,15 +37,38 @@ std::string require_mesh_digest(const std::string& name, const char* field) {
   require_bounded(field, name, kMaxNameBytes);
   const std::string digest = mesh_digest_from_name(name);
   if (digest.empty())
-    throw ServiceError(Kind::kInvalidArgument,
-                       std::string(field) + " must look like meshes/{sha256}, got " + quoted_prefix(name));
+    throw field_error(field, "INVALID_NAME", std::string(field) + " must look like meshes/{sha256}, got " +
+                                                 quoted_prefix(name));
   return digest;
 }
 
+// The request field an engine's settings error is about: "settings.<name>" when the message
+// begins "setting <name>" (or "settings <name> + ..."), else "settings".
+std::string setting_field_of(const std::string& message) {
+  for (const char* prefix : {"setting ", "settings "}) {
+    if (message.rfind(prefix, 0) != 0) continue;
+    const size_t begin = std::string(prefix).size();
+    const size_t end = message.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_", begin);
+    const std::string name = message.substr(begin, end - begin);
+    if (find_setting(name)) return "settings." + name;
+  }
+  return "settings";
+}
+
+// The request's settings, checked here so that a refusal names the field.
+MatchSettings require_valid_settings(const v1::MatchSettings& proto) {
+  try {
+    MatchSettings settings = api::settings_from_proto(proto);
+    settings.validate();
+    return settings;
+  } catch (const InputError& e) {
+    throw field_error(setting_field_of(e.what()), "INVALID_SETTING", e.what());
+  }
+}
+
 // Ends a watch or wait that the server's shutdown interrupts: the job itself is kept.
-grpc::Status server_stopping(const std::string& name) {
-  return grpc::Status(grpc::StatusCode::UNAVAILABLE,
-                      "the server is stopping (" + name + " is kept)");
+[[noreturn]] void server_stopping(const std::string& name) {
+  throw DetailedError(Kind::kUnavailable, "SERVER_STOPPING", "", "the server is stopping (" + name + " is kept)");
 }
 
 // The caller's deadline on the steady clock (far future when it set none).
@@ -76,8 +102,8 @@ grpc::Status JobServiceImpl::CreateMatchJob(grpc::ServerContext* context, const 
   return guarded_call("CreateMatchJob", *context, auth_, [&](const CallInfo& call) {
     const std::string source = require_mesh_digest(request->source_mesh(), "source_mesh");
     const std::string target = require_mesh_digest(request->target_mesh(), "target_mesh");
-    *response = job_to_proto(
-        jobs_.create(source, target, api::settings_from_proto(request->settings()), call.request_id));
+    const MatchSettings settings = require_valid_settings(request->settings());
+    *response = job_to_proto(jobs_.create(source, target, settings, call.request_id));
     return grpc::Status::OK;
   });
 }
@@ -120,7 +146,7 @@ grpc::Status JobServiceImpl::WaitJob(grpc::ServerContext* context, const v1::Wai
     }
     JobRecord job = jobs_.get(id);
     while (!is_final(job.state) && Clock::now() < deadline && !context->IsCancelled()) {
-      if (stopping_) return server_stopping(request->name());
+      if (stopping_) server_stopping(request->name());
       job = jobs_.wait_for_change(id, job.version, std::min(deadline, Clock::now() + kPollInterval));
     }
     *response = job_to_proto(job);  // AIP-151: not done yet is a normal answer
@@ -136,7 +162,7 @@ grpc::Status JobServiceImpl::WatchJob(grpc::ServerContext* context, const v1::Wa
     if (!writer->Write(job_to_proto(job))) return grpc::Status::OK;
     while (!is_final(job.state)) {
       if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "watch cancelled by the client");
-      if (stopping_) return server_stopping(request->name());
+      if (stopping_) server_stopping(request->name());
       const uint64_t seen = job.version;
       job = jobs_.wait_for_change(id, seen, Clock::now() + kPollInterval);
       if (job.version != seen && !writer->Write(job_to_proto(job))) return grpc::Status::OK;
@@ -151,12 +177,13 @@ grpc::Status JobServiceImpl::DownloadResult(grpc::ServerContext* context, const 
     const std::string id = require_job_id(request->name());
     const JobRecord job = jobs_.get(id);
     if (job.state != JobState::kSucceeded)
-      throw ServiceError(Kind::kFailedPrecondition, "job " + request->name() + " is " + job_state_name(job.state) +
-                                                        "; results exist only for SUCCEEDED jobs");
+      throw DetailedError(Kind::kFailedPrecondition, "JOB_NOT_SUCCEEDED", "",
+                          "job " + request->name() + " is " + job_state_name(job.state) +
+                              "; results exist only for SUCCEEDED jobs");
     std::vector<ResultPart> parts;
     for (const int value : request->parts()) {
       const std::optional<ResultPart> part = api::result_part_from_proto(value);
-      if (!part) throw ServiceError(Kind::kInvalidArgument, "unknown result part " + std::to_string(value));
+      if (!part) throw field_error("parts", "UNKNOWN_RESULT_PART", "unknown result part " + std::to_string(value));
       parts.push_back(*part);
     }
     if (parts.empty()) parts.assign(kAllResultParts.begin(), kAllResultParts.end());

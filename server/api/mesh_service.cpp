@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "api/call_guard.h"
+#include "api/error_details.h"
 #include "api/paging.h"
 #include "api/request_limits.h"
 #include "api/resource_codec.h"
@@ -17,10 +18,12 @@ MeshInfo MeshServiceImpl::require(const std::string& name) const {
   require_bounded("name", name, kMaxNameBytes);
   const std::string digest = mesh_digest_from_name(name);
   if (digest.empty())
-    throw ServiceError(Kind::kInvalidArgument,
-                       "mesh names look like meshes/{sha256} (64 lower-case hex digits), got " + quoted_prefix(name));
+    throw field_error("name", "INVALID_NAME",
+                      "mesh names look like meshes/{sha256} (64 lower-case hex digits), got " + quoted_prefix(name));
   auto info = meshes_.get(digest);
-  if (!info) throw ServiceError(Kind::kNotFound, "no mesh " + name + " on this server; upload it first");
+  if (!info)
+    throw DetailedError(Kind::kNotFound, "MESH_NOT_FOUND", "name",
+                        "no mesh " + name + " on this server; upload it first");
   return *info;
 }
 
@@ -30,12 +33,12 @@ grpc::Status MeshServiceImpl::UploadMesh(grpc::ServerContext* context,
   return guarded_call("UploadMesh", *context, auth_, [&](const CallInfo& call) {
     v1::UploadMeshRequest request;
     if (!reader->Read(&request) || !request.has_header())
-      throw ServiceError(Kind::kInvalidArgument, "the first UploadMesh message must carry the header");
+      throw field_error("header", "INVALID_UPLOAD", "the first UploadMesh message must carry the header");
     const v1::UploadMeshRequest::Header header = request.header();  // a copy: `request` is reused below
     if (!is_sha256_hex(header.sha256()))
-      throw ServiceError(Kind::kInvalidArgument,
-                         "sha256 must be 64 lower-case hex characters, got " + quoted_prefix(header.sha256()));
-    require_bounded("filename", header.filename(), kMaxFilenameBytes);
+      throw field_error("header.sha256", "INVALID_UPLOAD",
+                        "sha256 must be 64 lower-case hex characters, got " + quoted_prefix(header.sha256()));
+    require_bounded("header.filename", header.filename(), kMaxFilenameBytes);
     require_upload_size(header.size_bytes());
     if (auto existing = meshes_.find_intact(header.sha256())) {  // a corrupted copy is replaced
       // Content-addressed: same digest, same bytes. The rest of the stream is not read.
@@ -48,21 +51,24 @@ grpc::Status MeshServiceImpl::UploadMesh(grpc::ServerContext* context,
     reader->SendInitialMetadata();  // tells a waiting client that the upload was admitted
     int64_t received = 0;
     while (reader->Read(&request)) {
-      if (request.has_header()) throw ServiceError(Kind::kInvalidArgument, "only the first message may carry a header");
+      if (request.has_header())
+        throw field_error("header", "INVALID_UPLOAD", "only the first message may carry a header");
       received += static_cast<int64_t>(request.chunk().size());
       server_metrics().upload_bytes.add(static_cast<double>(request.chunk().size()));
       if (received > header.size_bytes())
-        throw ServiceError(Kind::kInvalidArgument, "more bytes than the header's size_bytes " +
-                                                       std::to_string(header.size_bytes()) + " were sent");
+        throw field_error("header.size_bytes", "INVALID_UPLOAD",
+                          "more bytes than the header's size_bytes " + std::to_string(header.size_bytes()) +
+                              " were sent");
       upload->append(request.chunk());
     }
     if (context->IsCancelled()) return grpc::Status(grpc::StatusCode::CANCELLED, "upload cancelled by the client");
     if (received != header.size_bytes())
-      throw ServiceError(Kind::kInvalidArgument, "the upload ended after " + std::to_string(received) +
-                                                     " of the header's size_bytes " +
-                                                     std::to_string(header.size_bytes()) + " bytes");
+      throw field_error("header.size_bytes", "INVALID_UPLOAD",
+                        "the upload ended after " + std::to_string(received) + " of the header's size_bytes " +
+                            std::to_string(header.size_bytes()) + " bytes");
     const MeshInfo info = upload->commit();
-    spdlog::info("[{}] stored mesh {} ({}, {} vertices, {} bytes)", call.request_id, info.digest, info.filename,
+    spdlog::info("[{}] stored mesh {} ({}, {} vertices, {} bytes)", call.request_id, info.digest,
+                 escape_text(info.filename),
                  info.vertex_count, info.size_bytes);
     *response->mutable_mesh() = mesh_to_proto(info, cache_.state_of_mesh(info.digest));
     return grpc::Status::OK;
@@ -94,8 +100,8 @@ grpc::Status MeshServiceImpl::DeleteMesh(grpc::ServerContext* context, const v1:
   return guarded_call("DeleteMesh", *context, auth_, [&](const CallInfo&) {
     const MeshInfo info = require(request->name());
     if (jobs_.mesh_in_use(info.digest))
-      throw ServiceError(Kind::kFailedPrecondition,
-                         request->name() + " is used by a queued or running job; cancel the job or wait for it");
+      throw DetailedError(Kind::kFailedPrecondition, "MESH_IN_USE", "name",
+                          request->name() + " is used by a queued or running job; cancel the job or wait for it");
     meshes_.remove(info.digest);
     return grpc::Status::OK;
   });

@@ -7,8 +7,8 @@
 #include <cstddef>
 #include <string>
 
+#include "api/error_details.h"
 #include "api/request_limits.h"
-#include "service_error.h"
 
 namespace isocorr::server {
 
@@ -18,7 +18,7 @@ template <typename RepeatedField, typename MakeItem>
 std::string fill_page(RepeatedField& items, size_t count, int page_size, const std::string& token, MakeItem make) {
   constexpr int kDefaultPageSize = 100, kMaxPageSize = 1000;
   constexpr size_t kFieldOverhead = 8;  // tag and length prefix of each item
-  if (page_size < 0) throw ServiceError(ServiceError::Kind::kInvalidArgument, "page_size must not be negative");
+  if (page_size < 0) throw field_error("page_size", "INVALID_PAGE_SIZE", "page_size must not be negative");
   const size_t size = page_size == 0 ? kDefaultPageSize : std::min(page_size, kMaxPageSize);
   const size_t begin = std::min(parse_page_token(token), count);
   size_t next = begin, bytes = 0;

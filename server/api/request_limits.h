@@ -20,15 +20,21 @@ constexpr size_t kMaxPageTokenBytes = 20;
 // A list page stops growing here, far below gRPC's default 4 MiB message limit.
 constexpr size_t kMaxPageBytes = size_t{1} << 20;
 
-// `value` in quotes, cut to a short prefix with its length when long: safe in any message.
+// Client text made safe for a message or a log line: control characters (C0, DEL, C1,
+// U+2028/9) become \n, \r, \t, \xNN or \uNNNN, and bytes that are not UTF-8 become \xNN.
+// Backslashes stay as they are, so escaping twice changes nothing.
+std::string escape_text(std::string_view text);
+
+// `value` in quotes, escaped, cut to a short prefix with its length when long: safe in any
+// message.
 std::string quoted_prefix(std::string_view value);
 
-// Throws ServiceError(kInvalidArgument) when `value` is longer than `max_bytes` or holds
+// Throws a field_error naming `field` when `value` is longer than `max_bytes` or holds
 // control characters (names and file names are shown one per line by the client).
 void require_bounded(const char* field, std::string_view value, size_t max_bytes);
 
 // The index a page token stands for: exactly the decimal the server wrote ("" = 0).
-// Throws ServiceError(kInvalidArgument) for anything else ("-1", " 5", "5abc", "1e3", "05").
+// Throws a field_error for anything else ("-1", " 5", "5abc", "1e3", "05").
 size_t parse_page_token(const std::string& token);
 
 // The upload header's size_bytes must announce a non-empty file.

@@ -2,17 +2,17 @@
 
 #include <string>
 
-#include "service_error.h"
+#include "api/error_details.h"
 
 namespace isocorr::server {
 
 UploadBudget::Reservation UploadBudget::reserve(int64_t bytes) {
   std::lock_guard lock(mutex_);
   if (bytes > max_bytes_ - in_flight_)
-    throw ServiceError(ServiceError::Kind::kResourceExhausted,
-                       "uploads in progress hold " + std::to_string(in_flight_) + " of the server's " +
-                           std::to_string(max_bytes_) + " bytes for uploads; retry when they are done "
-                           "(isocorr-server --max-upload-bytes-in-flight)");
+    throw DetailedError(ServiceError::Kind::kResourceExhausted, "UPLOAD_BUDGET_EXHAUSTED", "",
+                        "uploads in progress hold " + std::to_string(in_flight_) + " of the server's " +
+                            std::to_string(max_bytes_) + " bytes for uploads; retry when they are done "
+                            "(isocorr-server --max-upload-bytes-in-flight)");
   in_flight_ += bytes;
   return Reservation(*this, bytes);
 }

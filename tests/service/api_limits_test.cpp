@@ -18,7 +18,10 @@
 #include <nlohmann/json.hpp>
 
 #include "api/paging.h"
+#include "api/request_limits.h"
 #include "client_json.h"
+#include "google/rpc/error_details.pb.h"
+#include "google/rpc/status.pb.h"
 #include "isocorr/mesh/mesh_io.h"
 #include "isocorr/mesh/procedural_meshes.h"
 #include "isocorr/util/sha256.h"
@@ -78,6 +81,28 @@ std::set<int> listening_ports(pid_t pid) {
     }
   }
   return ports;
+}
+
+// The AIP-193 details of an error status: its ErrorInfo and BadRequest field violations.
+struct StatusDetails {
+  bool parsed = false;
+  int error_infos = 0;
+  google::rpc::ErrorInfo info;
+  std::vector<std::string> fields;  // of the BadRequest violations
+};
+
+StatusDetails details_of(const grpc::Status& status) {
+  StatusDetails details;
+  google::rpc::Status proto;
+  details.parsed = proto.ParseFromString(status.error_details()) && proto.code() == status.error_code() &&
+                   proto.message() == status.error_message();
+  for (const auto& any : proto.details()) {
+    google::rpc::BadRequest bad_request;
+    if (any.UnpackTo(&details.info)) ++details.error_infos;
+    if (any.UnpackTo(&bad_request))
+      for (const auto& violation : bad_request.field_violations()) details.fields.push_back(violation.field());
+  }
+  return details;
 }
 
 // Calls the API directly, with requests the isocorr client would never send.
@@ -214,6 +239,106 @@ TEST_F(ApiLimits, LongStringsAreRefusedQuotingOnlyAShortPrefix) {
   const grpc::Status huge_job = api.jobs().GetJob(RawApi::context().get(), request, &job);
   EXPECT_EQ(huge_job.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_LT(huge_job.error_message().size(), kShortMessage);
+}
+
+// A refused name used to reach the message and the log as it came: a newline in it wrote a
+// line of its own that read like a real log entry.
+TEST_F(ApiLimits, ControlCharactersInClientTextAreEscapedInMessagesAndTheLog) {
+  ServerProcess server(data_dir());
+  RawApi api(server.address());
+  const std::string forged = "[2026-01-01 00:00:00.000] [info] [r1] forged";
+  v1::GetJobRequest request;
+  request.set_name(std::string("jobs/\0\x1b[2J\n", 11) + forged);
+  v1::Job job;
+  const grpc::Status refused = api.jobs().GetJob(RawApi::context().get(), request, &job);
+  ASSERT_EQ(refused.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  const std::string& message = refused.error_message();
+  EXPECT_NE(message.find("jobs/\\x00\\x1b[2J\\n[2026-01-01"), std::string::npos) << message;
+  EXPECT_TRUE(std::none_of(message.begin(), message.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20; }))
+      << message;
+  const std::string bytes = file_bytes(path("creature.ply"));
+  const grpc::Status filename = api.upload(sha256_of(bytes), "a\r\nb\x7f\xc2\x85.ply", bytes.size(), bytes);
+  EXPECT_NE(filename.error_message().find("'a\\r\\nb\\x7f\\u0085.ply'"), std::string::npos)
+      << filename.error_message();
+
+  // Every line of the log is the server's own: none starts with the forged text, and no
+  // control character but the newlines ending lines is left.
+  server.terminate();
+  const std::string log = file_bytes(server.log_path());
+  EXPECT_NE(log.find("\\n[2026-01-01"), std::string::npos) << log;  // the refusal, escaped
+  EXPECT_EQ(log.find("\n" + forged), std::string::npos) << log;
+  EXPECT_EQ(log.find("\n[2026-01-01"), std::string::npos) << log;
+  EXPECT_TRUE(std::none_of(log.begin(), log.end(),
+                           [](char c) { return (static_cast<unsigned char>(c) < 0x20 && c != '\n') || c == 0x7f; }))
+      << log;
+}
+
+TEST(EscapeText, ControlCharactersAndBytesThatAreNotUtf8) {
+  constexpr char kRaw[] = "a\0b\tc\x1b[0m\xc2\x85\xe2\x80\xa8\xff\xc3(\xed\xa0\x80 \\n \xc3\xa9";
+  const std::string raw(kRaw, sizeof kRaw - 1);
+  const std::string escaped = server::escape_text(raw);
+  EXPECT_EQ(escaped, "a\\x00b\\tc\\x1b[0m\\u0085\\u2028\\xff\\xc3(\\xed\\xa0\\x80 \\n \xc3\xa9");
+  EXPECT_EQ(server::escape_text(escaped), escaped);  // escaping twice changes nothing
+}
+
+// AIP-193: every error carries google.rpc.Status details, an ErrorInfo with a reason and
+// the domain, and for a bad request field a BadRequest violation naming it.
+TEST_F(ApiLimits, ErrorsCarryErrorInfoAndBadRequestDetails) {
+  ServerProcess server(data_dir());
+  RawApi api(server.address());
+
+  v1::CreateMatchJobRequest create;
+  create.set_source_mesh("meshes/" + std::string(64, 'a'));
+  create.set_target_mesh("meshes/" + std::string(64, 'b'));
+  create.mutable_settings()->set_level0_samples(2);
+  v1::Job job;
+  const grpc::Status bad_setting = api.jobs().CreateMatchJob(RawApi::context().get(), create, &job);
+  ASSERT_EQ(bad_setting.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  StatusDetails details = details_of(bad_setting);
+  EXPECT_TRUE(details.parsed);
+  EXPECT_EQ(details.error_infos, 1);
+  EXPECT_EQ(details.info.reason(), "INVALID_SETTING");
+  EXPECT_EQ(details.info.domain(), "isocorr.dev");
+  EXPECT_EQ(details.info.metadata().at("field"), "settings.level0_samples");
+  EXPECT_EQ(details.info.metadata().at("request_id").substr(0, 1), "r");
+  EXPECT_EQ(details.fields, std::vector<std::string>{"settings.level0_samples"});
+  // A check across fields names the one it reports.
+  create.mutable_settings()->clear_level0_samples();
+  create.mutable_settings()->set_min_tracked(5);
+  create.mutable_settings()->set_max_tracked(4);
+  details = details_of(api.jobs().CreateMatchJob(RawApi::context().get(), create, &job));
+  EXPECT_EQ(details.fields, std::vector<std::string>{"settings.max_tracked"});
+
+  create.clear_settings();
+  create.set_source_mesh("meshes/xyz");
+  details = details_of(api.jobs().CreateMatchJob(RawApi::context().get(), create, &job));
+  EXPECT_EQ(details.info.reason(), "INVALID_NAME");
+  EXPECT_EQ(details.fields, std::vector<std::string>{"source_mesh"});
+
+  v1::ListMeshesResponse meshes;
+  details = details_of(api.list_meshes("-1", 0, &meshes));
+  EXPECT_EQ(details.info.reason(), "INVALID_PAGE_TOKEN");
+  EXPECT_EQ(details.fields, std::vector<std::string>{"page_token"});
+
+  // Not a bad field: an ErrorInfo, no BadRequest.
+  v1::GetJobRequest get;
+  get.set_name("jobs/0123456789abcdef");
+  const grpc::Status unknown = api.jobs().GetJob(RawApi::context().get(), get, &job);
+  ASSERT_EQ(unknown.error_code(), grpc::StatusCode::NOT_FOUND);
+  details = details_of(unknown);
+  EXPECT_TRUE(details.parsed);
+  EXPECT_EQ(details.info.reason(), "NOT_FOUND");
+  EXPECT_EQ(details.info.domain(), "isocorr.dev");
+  EXPECT_TRUE(details.fields.empty());
+
+  // The client shows the field, and --json has the reason and the violations.
+  const CommandRun submit = server.client("submit " + path("creature.ply").string() + " " +
+                                          path("creature_moved.ply").string() + " --level0-samples 2 --json");
+  EXPECT_EQ(submit.exit_code, 2);
+  EXPECT_NE(submit.err.find("cannot create the job: settings.level0_samples: "), std::string::npos) << submit.err;
+  const json error = last_json(submit)["error"];
+  EXPECT_EQ(error.value("reason", ""), "INVALID_SETTING") << error.dump();
+  EXPECT_EQ(error["field_violations"][0].value("field", ""), "settings.level0_samples") << error.dump();
 }
 
 TEST_F(ApiLimits, PageTokensParseStrictly) {
