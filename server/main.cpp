@@ -23,6 +23,7 @@
 #include "metrics/metrics_endpoint.h"
 #include "server_options.h"
 #include "store.h"
+#include "store_health.h"
 #include "storage/durable_file.h"
 #include "isocorr/util/huge_page_malloc.h"
 
@@ -103,6 +104,8 @@ int run(const ServerOptions& options) {
     spdlog::error("cannot listen on {}", options.listen);
     return 1;
   }
+  // Readiness follows the store: NOT_SERVING while it cannot be reached.
+  const StoreHealth store_health(options, *server->GetHealthCheckService());
   const std::string host = options.listen.substr(0, options.listen.rfind(':'));
   spdlog::info("isocorr-server listening on {}:{} ({}, {}), data in {}, {} worker(s)", host, port,
                options.tls_cert.empty() ? "plaintext" : "TLS", auth.enabled() ? "bearer token" : "no auth",

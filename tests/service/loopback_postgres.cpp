@@ -72,20 +72,34 @@ LoopbackPostgres::LoopbackPostgres(const fs::path& bin_dir) : bin_(bin_dir) {
   // A port taken between the probe and the bind makes the start fail: try another.
   for (int attempt = 0; attempt < 5 && !started_; ++attempt) {
     port_ = free_loopback_port();
-    const std::string options = "-p " + std::to_string(port_) + " -k " + dir_.string() +
-                                " -c listen_addresses=127.0.0.1 -c fsync=off";
-    const CommandRun start = run_command(as_owner((bin_ / "pg_ctl").string() + " -D " + data.string() + " -l " +
-                                                  log.string() + " -o " + quoted(options) + " -t 60 -w start"));
-    started_ = start.exit_code == 0;
+    start();
   }
   if (!started_) throw std::runtime_error("postgres did not start: " + slurp_file(log));
 }
 
 LoopbackPostgres::~LoopbackPostgres() {
-  if (started_)
-    run_command(as_owner((bin_ / "pg_ctl").string() + " -D " + (dir_ / "data").string() + " -m immediate -t 60 -w stop"));
+  stop();
   std::error_code ignored;
   fs::remove_all(dir_, ignored);
+}
+
+CommandRun LoopbackPostgres::pg_ctl(const std::string& arguments) const {
+  return run_command(as_owner((bin_ / "pg_ctl").string() + " -D " + (dir_ / "data").string() + " " + arguments));
+}
+
+bool LoopbackPostgres::start() {
+  if (!started_) {
+    const std::string options = "-p " + std::to_string(port_) + " -k " + dir_.string() +
+                                " -c listen_addresses=127.0.0.1 -c fsync=off";
+    started_ = pg_ctl("-l " + (dir_ / "postgres.log").string() + " -o " + quoted(options) + " -t 60 -w start")
+                   .exit_code == 0;
+  }
+  return started_;
+}
+
+bool LoopbackPostgres::stop() {
+  if (started_) started_ = pg_ctl("-m immediate -t 60 -w stop").exit_code != 0;
+  return !started_;
 }
 
 std::string LoopbackPostgres::url(const std::string& database) const {

@@ -31,9 +31,15 @@ class LoopbackPostgres {
   // Runs one SQL statement with psql; the rows unaligned, one a line, fields split by '|'.
   CommandRun sql(const std::string& database, const std::string& statement) const;
 
+  // Stops the server as an outage would (connections cut, nothing flushed), and starts it
+  // again on the same port and socket; both wait (bounded) and return whether they succeeded.
+  bool stop();
+  bool start();
+
  private:
   // `command` as the user that owns the cluster.
   std::string as_owner(const std::string& command) const;
+  CommandRun pg_ctl(const std::string& arguments) const;
 
   std::filesystem::path bin_, dir_;
   int port_ = 0;
