@@ -25,7 +25,7 @@ struct ServerOptions {
   // its size in memory, so this bounds the memory uploads can take.
   int64_t max_upload_bytes_in_flight = int64_t{512} << 20;
   int max_queued_jobs = 64;
-  int max_attempts = 3;                     // starts of a job interrupted by crashes before it fails
+  int max_attempts = 2;                     // starts of a job interrupted by crashes before it fails
   int shutdown_grace_seconds = 5;
   std::string token_file, tls_cert, tls_key;
   std::string port_file;                    // written with the bound port (for --listen HOST:0)

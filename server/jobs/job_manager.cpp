@@ -18,6 +18,12 @@ namespace {
 // shows this stage meanwhile.
 constexpr auto kDiskRetryInterval = std::chrono::seconds(2);
 constexpr const char* kWaitingForDisk = "waiting for disk space";
+// A job whose end cannot be recorded shows this stage and stays RUNNING until it is.
+constexpr const char* kWaitingToRecordEnd = "waiting for disk space to record its end";
+
+std::string times(int count) {
+  return count == 1 ? "once" : count == 2 ? "twice" : std::to_string(count) + " times";
+}
 
 // A job's meshes as recovery finds them: fails `record` when one is gone or corrupted.
 bool fail_if_mesh_missing(MeshRepository& meshes, JobRecord& record) {
@@ -52,8 +58,8 @@ void JobManager::recover_and_start() {
       if (was_running && record.attempts >= options_.max_attempts) {
         record.state = JobState::kFailed;
         record.error_code = ErrorCode::kAborted;
-        record.error_message = "the server stopped " + std::to_string(record.attempts) +
-                               " times while running this job (crash, kill or out of memory); not run again";
+        record.error_message = "this job stopped the server " + times(record.attempts) +
+                               " while running (crash, kill or out of memory); not run again";
         record.end_time_ms = now_ms();
       } else if (!fail_if_mesh_missing(meshes_, record)) {
         record.state = JobState::kQueued;
@@ -269,26 +275,26 @@ void JobManager::run(Slot& slot) {
 }
 
 void JobManager::finish(Slot& slot, JobRecord final_record) {
-  std::lock_guard lock(mutex_);
-  final_record.version = slot.record.version;
+  std::unique_lock lock(mutex_);
   final_record.end_time_ms = now_ms();  // whatever the outcome: the time the job ended
-  try {
-    journal_.save(final_record);  // durable before anyone can see it done
-  } catch (const std::exception& e) {
-    // Not durable: the journal still says RUNNING, so the job runs again after a restart.
-    // Until then it ends here with the reason rather than staying RUNNING; a result that
-    // cannot be recorded is not reported as a success.
-    spdlog::error("[{}] cannot write its journal record: {}", job_tag(final_record), e.what());
-    const std::string not_recorded =
-        std::string("its end could not be recorded (") + e.what() + "); it runs again when the server restarts";
-    if (final_record.state == JobState::kSucceeded) {
-      final_record.state = JobState::kFailed;
-      final_record.error_code = ErrorCode::kResourceExhausted;
-      final_record.error_message = "the job finished but " + not_recorded;
-    } else {
-      final_record.error_message += "; " + not_recorded;
+  // A job is seen done only once its end is on disk: a state a caller saw final must be
+  // the state the next start reads. Until then (full disk) it stays RUNNING, saying why.
+  for (;;) {
+    try {
+      journal_.save(final_record);
+      break;
+    } catch (const std::exception& e) {
+      if (slot.record.progress.stage != kWaitingToRecordEnd) {
+        spdlog::error("[{}] cannot record its end ({}), retrying every {} s: {}", job_tag(final_record),
+                      job_state_name(final_record.state), kDiskRetryInterval.count(), e.what());
+        slot.record.progress.stage = kWaitingToRecordEnd;
+        publish_locked(slot);
+      }
     }
+    // Stopping: the journal still says RUNNING, so the job runs again at the next start.
+    if (changed_.wait_for(lock, kDiskRetryInterval, [&] { return stopping_; })) return;
   }
+  final_record.version = slot.record.version;
   record_job_durations(final_record);
   slot.record = std::move(final_record);
   publish_locked(slot);

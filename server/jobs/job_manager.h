@@ -3,14 +3,17 @@
 //
 // Restart semantics: jobs found QUEUED or RUNNING in the journal are queued again (a
 // RUNNING one was interrupted by a crash or kill) until a job has been started
-// `max_attempts` times, then it is marked FAILED with the reason. A graceful shutdown
-// puts running jobs back to QUEUED without counting the attempt.
+// `max_attempts` times, then it is marked FAILED with the reason: by default a job that
+// stopped the server twice is not run a third time. A graceful shutdown puts running jobs
+// back to QUEUED without counting the attempt. A finished job is never run again: its
+// end is shown only once it is on disk.
 //
 // Full disk: a queued job whose start cannot be recorded stays QUEUED (stage "waiting for
-// disk space") and is tried again every few seconds; a job whose result or final record
-// cannot be written ends FAILED with RESOURCE_EXHAUSTED and the reason (when even that
-// cannot be recorded, it runs again after a restart). A corrupted stored mesh fails its
-// job with DATA_LOSS. No job stays RUNNING or QUEUED for want of disk space once it returns.
+// disk space") and is tried again every few seconds; a job whose result cannot be written
+// ends FAILED with RESOURCE_EXHAUSTED and the reason; a job whose end cannot be recorded
+// stays RUNNING (stage "waiting for disk space to record its end") until it can be (after
+// a restart meanwhile it runs again, as nobody saw it end). A corrupted stored mesh fails
+// its job with DATA_LOSS. No job stays RUNNING or QUEUED for want of disk space once it returns.
 #pragma once
 
 #include <atomic>
@@ -35,7 +38,7 @@ namespace isocorr::server {
 struct JobManagerOptions {
   int workers = 1;            // jobs running at once
   int max_queued_jobs = 64;   // CreateMatchJob beyond this is RESOURCE_EXHAUSTED
-  int max_attempts = 3;       // starts before an interrupted job is given up
+  int max_attempts = 2;       // starts before an interrupted job is given up
 };
 
 class JobManager final : public JobCoordinator {

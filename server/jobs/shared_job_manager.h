@@ -26,7 +26,7 @@ namespace isocorr::server {
 struct SharedJobOptions {
   int workers = 1;
   int max_queued_jobs = 64;             // across all replicas
-  int max_attempts = 3;
+  int max_attempts = 2;
   std::chrono::milliseconds lease{30000};
   std::string replica;                  // claimed_by of this replica's jobs; unique per process
 };

@@ -2,8 +2,9 @@
 // cycle: kill -9 during uploads and jobs (every acknowledged upload and job is there after
 // the restart: the acknowledged bytes lost are printed and must be 0), a full disk (a
 // file-size limit set on the running server with prlimit: writes fail with EFBIG, which the
-// server treats like ENOSPC), and a corrupted store (a changed byte in a stored mesh,
-// result and job record: DATA_LOSS, quarantine, repair by uploading again).
+// server treats like ENOSPC), a corrupted store (a changed byte in a stored mesh,
+// result and job record: DATA_LOSS, quarantine, repair by uploading again) and a job
+// that stops its server twice (not run a third time).
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -213,7 +214,8 @@ TEST_F(Faults, FullDiskIsResourceExhaustedAndNoJobStaysStuck) {
   EXPECT_NE(no_room_for_result["error"]["message"].get<std::string>().find("disk is full"), std::string::npos);
   EXPECT_TRUE(leftovers(data_dir()).empty()) << leftovers(data_dir())[0];
 
-  // Nothing fits: CreateMatchJob is refused; a queued job waits for room instead of sticking.
+  // Nothing fits: CreateMatchJob is refused; a job whose end cannot be recorded is not
+  // shown done (a restart would run it again) but waits for room, and the queue with it.
   limit_file_size(server, 0);
   const CommandRun refused = server.client("submit " + creature + " " + moved + " --json");
   EXPECT_EQ(error_code(refused), "RESOURCE_EXHAUSTED") << refused.out;
@@ -223,14 +225,17 @@ TEST_F(Faults, FullDiskIsResourceExhaustedAndNoJobStaysStuck) {
   wait_for_status(server, long_job, [](const json& s) { return s.value("state", "") == "RUNNING"; });
   const std::string queued = last_json(server.client("submit " + creature + " " + moved + " --json"))["name"];
   limit_file_size(server, 0);
-  ASSERT_EQ(server.client("cancel " + long_job).exit_code, 0);  // its end cannot be recorded either
-  EXPECT_EQ(wait_done(server, long_job)["state"], "CANCELLED");
-  wait_for_status(server, queued, [](const json& s) {
-    return s.value("state", "") == "QUEUED" && s["progress"].value("stage", "") == "waiting for disk space";
+  ASSERT_EQ(server.client("cancel " + long_job).exit_code, 0);
+  wait_for_status(server, long_job, [](const json& s) {
+    return s.value("state", "") == "RUNNING" &&
+           s["progress"].value("stage", "") == "waiting for disk space to record its end";
   });
+  EXPECT_EQ(last_json(server.client("status " + queued + " --json")).value("state", ""), "QUEUED");
 
-  // Room again: the waiting job runs, uploads work, and no job is left unfinished.
+  // Room again: the cancel is recorded, the waiting job runs, uploads work, and no job is
+  // left unfinished.
   limit_file_size(server, RLIM_INFINITY);
+  EXPECT_EQ(wait_done(server, long_job)["state"], "CANCELLED");
   EXPECT_EQ(wait_done(server, queued)["state"], "SUCCEEDED");
   EXPECT_TRUE(last_json(server.client("upload " + small_mesh(0).string() + " --json"))["uploaded"].get<bool>());
   const fs::path map = data_dir().string() + ".map";
@@ -316,6 +321,23 @@ TEST_F(Faults, CorruptedStoreIsDataLossQuarantinedAndRepairedByUpload) {
   EXPECT_EQ(error_code(forged), "DATA_LOSS") << forged.out;
   EXPECT_NE(error_message(forged).find("outside"), std::string::npos) << error_message(forged);
   EXPECT_FALSE(fs::exists(map));
+}
+
+TEST_F(Faults, AJobThatStoppedItsServerTwiceFailsInsteadOfRunningAThirdTime) {
+  std::string job;
+  for (int stop = 1; stop <= 2; ++stop) {
+    ServerProcess server(data_dir(), {"--threads", "1"});
+    if (job.empty()) job = last_json(server.client("submit " + path("sphere.off").string() + " " +
+                                                   path("sphere.off").string() + " --json"))["name"];
+    wait_for_status(server, job, [&](const json& s) {
+      return s.value("state", "") == "RUNNING" && s.value("attempts", 0) == stop;
+    });
+    server.kill_hard();  // as if the job had brought it down
+  }
+  ServerProcess server(data_dir(), {"--threads", "1"});
+  const json status = last_json(server.client("status " + job + " --json"));
+  EXPECT_EQ(status.value("state", ""), "FAILED") << status.dump();
+  EXPECT_NE(status.dump().find("stopped the server twice"), std::string::npos) << status.dump();
 }
 
 }  // namespace
