@@ -9,6 +9,7 @@
 #include "postgres/pg_database.h"
 #include "postgres/pg_job_store.h"
 #include "postgres/pg_mesh_store.h"
+#include "storage/data_directory.h"
 #include "storage/job_journal.h"
 #include "storage/job_record.h"
 #include "storage/mesh_store.h"
@@ -32,6 +33,7 @@ std::unique_ptr<Store> open_store(const ServerOptions& options, ShapeCache& cach
   auto store = std::make_unique<Store>();
   if (options.store.empty()) {
     std::filesystem::create_directories(options.data_dir);
+    store->data_dir_lock = std::make_unique<DataDirectoryLock>(options.data_dir);  // before anything is read
     auto meshes = std::make_unique<MeshStore>(options.data_dir, options.max_mesh_bytes);
     store->journal = std::make_unique<JobJournal>(options.data_dir);
     store->jobs = std::make_unique<JobManager>(

@@ -14,9 +14,11 @@ namespace isocorr::server {
 class PgDatabase;
 class PgJobStore;
 class JobJournal;
+class DataDirectoryLock;
 
 struct Store {
   ~Store();
+  std::unique_ptr<DataDirectoryLock> data_dir_lock;  // declared first: released last
   std::unique_ptr<PgDatabase> database;
   std::unique_ptr<MeshRepository> meshes;
   std::unique_ptr<JobJournal> journal;
@@ -24,7 +26,8 @@ struct Store {
   std::unique_ptr<JobCoordinator> jobs;  // declared last: its workers stop first
 };
 
-// Throws std::runtime_error when the store cannot be opened.
+// Throws std::runtime_error when the store cannot be opened, or when another server holds
+// the data directory (naming its pid).
 std::unique_ptr<Store> open_store(const ServerOptions& options, ShapeCache& cache);
 
 }  // namespace isocorr::server

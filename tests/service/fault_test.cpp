@@ -3,8 +3,9 @@
 // the restart: the acknowledged bytes lost are printed and must be 0), a full disk (a
 // file-size limit set on the running server with prlimit: writes fail with EFBIG, which the
 // server treats like ENOSPC), a corrupted store (a changed byte in a stored mesh,
-// result and job record: DATA_LOSS, quarantine, repair by uploading again) and a job
-// that stops its server twice (not run a third time).
+// result and job record: DATA_LOSS, quarantine, repair by uploading again), a job that
+// stops its server twice (not run a third time) and a second server on the same data
+// directory (refused).
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -338,6 +339,22 @@ TEST_F(Faults, AJobThatStoppedItsServerTwiceFailsInsteadOfRunningAThirdTime) {
   const json status = last_json(server.client("status " + job + " --json"));
   EXPECT_EQ(status.value("state", ""), "FAILED") << status.dump();
   EXPECT_NE(status.dump().find("stopped the server twice"), std::string::npos) << status.dump();
+}
+
+TEST_F(Faults, ASecondServerOnTheSameDataDirectoryRefusesToStartNamingTheFirst) {
+  ServerProcess first(data_dir());
+  std::string refusal;
+  try {
+    ServerProcess second(data_dir());
+  } catch (const std::runtime_error& e) {
+    refusal = e.what();
+  }
+  EXPECT_NE(refusal.find("in use by another isocorr-server (pid " + std::to_string(first.pid()) + ")"),
+            std::string::npos)
+      << refusal;
+  first.kill_hard();  // the kernel releases the lock with its holder
+  ServerProcess after_crash(data_dir());
+  EXPECT_TRUE(after_crash.running());
 }
 
 }  // namespace
