@@ -8,6 +8,7 @@
 #include "isocorr/output/map_files.h"
 #include "isocorr/partial/partial_cut.h"
 #include "isocorr/util/error.h"
+#include "mesh_files.h"
 
 namespace isocorr::cli {
 namespace {
@@ -21,7 +22,7 @@ int cut(const CutArgs& args) {
   try {
     CutSpec spec = args.spec;
     spec.kind = parse_cut_kind(args.kind);
-    const LoadedMesh full = load_mesh(args.full);
+    const LoadedMesh full = load_mesh_file("full", args.full);
     const PartialShape part = cut_partial_shape(full.mesh, spec);
     write_ply(args.output, part.mesh);
     write_map(args.index_map, part.full_vertex);

@@ -7,10 +7,10 @@
 #include "commands.h"
 #include "isocorr/eval/ground_truth.h"
 #include "isocorr/eval/metrics.h"
-#include "isocorr/mesh/mesh_io.h"
 #include "isocorr/output/map_files.h"
 #include "isocorr/util/error.h"
 #include "isocorr/geodesic/geodesic_diameter.h"
+#include "mesh_files.h"
 
 namespace isocorr::cli {
 namespace {
@@ -42,8 +42,8 @@ int run_eval(const EvalArguments& args) {
         throw InputError("pair not in " + args.dataset + "/pairs.tsv; give --gt-kind");
     }
     const std::vector<int> forward = read_map(args.map);
-    const LoadedMesh source = load_mesh(pair.source_path);
-    const LoadedMesh target = load_mesh(pair.target_path);
+    const LoadedMesh source = load_mesh_file("source", pair.source_path);
+    const LoadedMesh target = load_mesh_file("target", pair.target_path);
     check_map_fits(forward, source.mesh.num_vertices(), target.mesh.num_vertices());
     const GroundTruth truth =
         load_ground_truth(args.dataset, pair, source.mesh.num_vertices(), target.mesh.num_vertices());

@@ -9,9 +9,9 @@
 
 #include "commands.h"
 #include "isocorr/matching/pipeline.h"
-#include "isocorr/mesh/mesh_io.h"
 #include "isocorr/output/colour_transfer.h"
 #include "isocorr/output/map_files.h"
+#include "mesh_files.h"
 #include "progress_printer.h"
 #include "settings_flags.h"
 
@@ -24,8 +24,11 @@ void on_interrupt(int) { g_interrupted = true; }
 int match_locally(const MatchJobFiles& args) {
   const auto start = std::chrono::steady_clock::now();
   try {
-    const LoadedMesh source = load_mesh(args.source);
-    const LoadedMesh target = load_mesh(args.target);
+    const LoadedMesh source = load_mesh_file("source", args.source);
+    const LoadedMesh target = load_mesh_file("target", args.target);
+    // The match would refuse an unusable mesh without saying which of the two it was.
+    check_matchable_file("source", args.source, source, args.settings.preprocess.cleaning);
+    check_matchable_file("target", args.target, target, args.settings.preprocess.cleaning);
     spdlog::info("source {}: {} vertices, {} faces ({})", args.source, source.mesh.num_vertices(),
                  source.mesh.num_faces(), source.format);
     spdlog::info("target {}: {} vertices, {} faces ({})", args.target, target.mesh.num_vertices(),

@@ -4,12 +4,12 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.h"
-#include "isocorr/mesh/mesh_io.h"
 #include "isocorr/output/map_files.h"
 #include "isocorr/render/pair_picture.h"
 #include "isocorr/render/png_file.h"
 #include "isocorr/render/view.h"
 #include "isocorr/util/error.h"
+#include "mesh_files.h"
 
 namespace isocorr::cli {
 namespace {
@@ -22,8 +22,8 @@ struct RenderArguments {
 int run_render(const RenderArguments& args) {
   try {
     const std::vector<int> map = read_map(args.map);
-    const LoadedMesh source = load_mesh(args.source);
-    const LoadedMesh target = load_mesh(args.target);
+    const LoadedMesh source = load_mesh_file("source", args.source);
+    const LoadedMesh target = load_mesh_file("target", args.target);
     write_png(args.output, render_pair_picture(source.mesh, target.mesh, map, args.picture));
     spdlog::debug("wrote {} ({}x{})", args.output, args.picture.width, args.picture.height);
     return kExitOk;

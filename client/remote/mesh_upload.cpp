@@ -1,11 +1,9 @@
 #include "remote/mesh_upload.h"
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
-#include "isocorr/util/error.h"
 #include "isocorr/util/sha256.h"
+#include "mesh_files.h"
 #include "remote/rpc_error.h"
 
 namespace isocorr::cli {
@@ -13,18 +11,10 @@ namespace {
 
 constexpr size_t kChunkBytes = 1 << 20;  // well under gRPC's 4 MiB message limit
 
-std::string read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot read mesh file '" + path + "'");
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
 }  // namespace
 
-UploadOutcome ensure_uploaded(Connection& connection, const std::string& path) {
-  const std::string bytes = read_file(path);
+UploadOutcome ensure_uploaded(Connection& connection, const std::string& path, const std::string& role) {
+  const std::string bytes = read_mesh_file(role, path);
   Sha256 hasher;
   hasher.update(bytes);
   const std::string digest = hasher.hex_digest();
@@ -37,7 +27,7 @@ UploadOutcome ensure_uploaded(Connection& connection, const std::string& path) {
   if (found.ok()) return outcome;
   // DATA_LOSS: the server holds a corrupted copy, which uploading the right bytes repairs.
   if (found.error_code() != grpc::StatusCode::NOT_FOUND && found.error_code() != grpc::StatusCode::DATA_LOSS)
-    check_rpc(found, *lookup, "cannot look up " + path);
+    check_rpc(found, *lookup, "cannot look up " + mesh_file_label(role, path));
 
   auto context = connection.context(/*long_call=*/true);
   v1::UploadMeshResponse response;
@@ -54,7 +44,7 @@ UploadOutcome ensure_uploaded(Connection& connection, const std::string& path) {
     open = writer->Write(request);
   }
   if (open) writer->WritesDone();
-  check_rpc(writer->Finish(), *context, "cannot upload " + path);
+  check_rpc(writer->Finish(), *context, "cannot upload " + mesh_file_label(role, path));
   outcome.mesh = response.mesh();
   outcome.uploaded = !response.already_existed();
   return outcome;

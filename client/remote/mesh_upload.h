@@ -13,7 +13,8 @@ struct UploadOutcome {
 };
 
 // Asks GetMesh first, so a mesh the server has costs one small call; otherwise streams
-// the file in 1 MiB chunks. Throws RpcError or InputError (unreadable file).
-UploadOutcome ensure_uploaded(Connection& connection, const std::string& path);
+// the file in 1 MiB chunks. Throws RpcError or InputError (unreadable or empty file); both
+// name the file as "<role> mesh 'path'" ("source", "target"; "mesh file 'path'" when empty).
+UploadOutcome ensure_uploaded(Connection& connection, const std::string& path, const std::string& role = "");
 
 }  // namespace isocorr::cli

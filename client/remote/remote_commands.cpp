@@ -2,6 +2,7 @@
 
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -11,6 +12,7 @@
 #include "codec/settings_codec.h"
 #include "isocorr/output/map_files.h"
 #include "isocorr/util/error.h"
+#include "mesh_files.h"
 #include "progress_printer.h"
 #include "remote/job_follow.h"
 #include "remote/job_output.h"
@@ -28,11 +30,11 @@ void on_interrupt(int) { g_interrupted = true; }
 void print_line(const std::string& text) { std::printf("%s\n", text.c_str()); }
 
 // A mesh argument: "meshes/{sha256}" as it is, a local file uploaded when the server lacks it.
-std::string mesh_name(Connection& connection, const std::string& argument) {
+std::string mesh_name(Connection& connection, const std::string& argument, const std::string& role) {
   if (argument.rfind("meshes/", 0) == 0) return argument;
   if (!std::filesystem::exists(argument))
-    throw InputError("'" + argument + "' is neither a mesh file nor a mesh name (meshes/{sha256})");
-  return ensure_uploaded(connection, argument).mesh.name();
+    throw mesh_file_error(role, argument, "neither a mesh file nor a mesh name (meshes/{sha256})");
+  return ensure_uploaded(connection, argument, role).mesh.name();
 }
 
 // Registers one subcommand with --json; `run` gets the connection and the --json flag.
@@ -81,8 +83,8 @@ RemoteMatchRunner register_remote_commands(CLI::App& app, ConnectionOptions& opt
       app, "submit", "create a match job and print its name at once (meshes: files or meshes/{sha256})", options,
       exit_code, [submit](Connection& connection, bool json) {
         v1::CreateMatchJobRequest request;
-        request.set_source_mesh(mesh_name(connection, submit->source));
-        request.set_target_mesh(mesh_name(connection, submit->target));
+        request.set_source_mesh(mesh_name(connection, submit->source, "source"));
+        request.set_target_mesh(mesh_name(connection, submit->target, "target"));
         *request.mutable_settings() = api::settings_to_proto(submit->settings);
         v1::Job job;
         auto context = connection.context();
@@ -163,7 +165,13 @@ RemoteMatchRunner register_remote_commands(CLI::App& app, ConnectionOptions& opt
         return exit_code_for_job(job);
       });
   wait_cmd->add_option("job", wait->name, "jobs/ID or ID")->required();
-  wait_cmd->add_option("--wait-seconds", wait->seconds, "give up after this long (0 = until the job ends)");
+  wait_cmd->add_option("--wait-seconds", wait->seconds, "give up after this long (0 = until the job ends)")
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            // Text that is no number passes here and fails the conversion with CLI11's message.
+            return std::strtod(text.c_str(), nullptr) < 0 ? "must not be negative (0 waits until the job ends)" : "";
+          },
+          "SECONDS >= 0"));
 
   // cancel JOB
   auto cancel_name = std::make_shared<std::string>();

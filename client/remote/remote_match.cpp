@@ -6,9 +6,9 @@
 #include <spdlog/spdlog.h>
 
 #include "codec/settings_codec.h"
-#include "isocorr/mesh/mesh_io.h"
 #include "isocorr/output/colour_transfer.h"
 #include "isocorr/output/map_files.h"
+#include "mesh_files.h"
 #include "progress_printer.h"
 #include "remote/job_follow.h"
 #include "remote/job_output.h"
@@ -28,8 +28,8 @@ void on_match_interrupt(int) { g_match_interrupted = true; }
 int run_remote_match(const ConnectionOptions& options, const MatchJobFiles& files) {
   return run_remote_command(false, [&] {
     Connection connection(options);
-    const UploadOutcome source = ensure_uploaded(connection, files.source);
-    const UploadOutcome target = ensure_uploaded(connection, files.target);
+    const UploadOutcome source = ensure_uploaded(connection, files.source, "source");
+    const UploadOutcome target = ensure_uploaded(connection, files.target, "target");
     spdlog::info("source {}: {} ({})", files.source, source.mesh.name(), source.uploaded ? "uploaded" : "already on the server");
     spdlog::info("target {}: {} ({})", files.target, target.mesh.name(), target.uploaded ? "uploaded" : "already on the server");
 
@@ -64,7 +64,8 @@ int run_remote_match(const ConnectionOptions& options, const MatchJobFiles& file
       if (!out) throw InputError("cannot write report '" + files.report + "'");
     }
     if (!files.colour_ply.empty())
-      write_colour_ply_pair(files.colour_ply, load_mesh(files.source).mesh, load_mesh(files.target).mesh,
+      write_colour_ply_pair(files.colour_ply, load_mesh_file("source", files.source).mesh,
+                            load_mesh_file("target", files.target).mesh,
                             result.reverse);
     spdlog::info("matched {} -> {} vertices on the server: D_iso {:.4f}; map written to {}",
                  job.result().source_vertex_count(), job.result().target_vertex_count(), job.result().diso(),

@@ -147,6 +147,24 @@ TEST_F(MatchCommand, BadMeshIsExitCodeTwoWithAReason) {
   EXPECT_NE(match.output.find("bad.off"), std::string::npos) << match.output;
 }
 
+// A mesh the match cannot use is refused before it starts, naming the file and its role
+// (the match itself would only say what is wrong, not with which of the two).
+TEST_F(MatchCommand, UnusableMeshIsRefusedNamingTheFileAndItsRole) {
+  const fs::path tiny = *dir_ / "tetrahedron.off", empty = *dir_ / "empty.off", map = *dir_ / "never.map";
+  std::ofstream(tiny) << "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+  std::ofstream{empty};
+  const std::string creature = (*dir_ / "meshes/creature.ply").string();
+  const ShellRun small = run_shell(cli_ + " match " + creature + " " + tiny.string() + " -o " + map.string());
+  EXPECT_EQ(small.exit_code, 2);
+  EXPECT_NE(small.output.find("target mesh '" + tiny.string() + "': "), std::string::npos) << small.output;
+  EXPECT_NE(small.output.find("at least 16"), std::string::npos) << small.output;
+  const ShellRun nothing = run_shell(cli_ + " match " + empty.string() + " " + creature + " -o " + map.string());
+  EXPECT_EQ(nothing.exit_code, 2);
+  EXPECT_NE(nothing.output.find("source mesh '" + empty.string() + "': the mesh file is empty"), std::string::npos)
+      << nothing.output;
+  EXPECT_FALSE(fs::exists(map));
+}
+
 // The heap is asked for huge pages (huge_page_malloc.h) unless the user set GLIBC_TUNABLES,
 // even to nothing. The mesh is malformed: the command ends quickly, after its log's start.
 TEST_F(MatchCommand, RunsWithHugePageMallocUnlessTheUserSetsTunables) {

@@ -294,6 +294,39 @@ TEST_F(Service, ErrorsHaveTheirStatusCodes) {
   EXPECT_EQ(unavailable.exit_code, 3);
 }
 
+// Every refusal of a mesh file names it, and whether it is the source or the target.
+TEST_F(Service, MeshFileRefusalsNameTheFileAndItsRole) {
+  ServerProcess server(data_dir());
+  const std::string empty = (data_dir() / "empty.off").string(), missing = (data_dir() / "missing.off").string();
+  std::ofstream{empty};
+  const std::string creature = path("creature.ply").string(), broken = path("broken.off").string();
+
+  const CommandRun upload = server.client("upload " + empty + " --json");
+  EXPECT_EQ(upload.exit_code, 2);
+  EXPECT_NE(upload.err.find("mesh file '" + empty + "': the mesh file is empty"), std::string::npos) << upload.err;
+  EXPECT_EQ(upload.err.find("size_bytes"), std::string::npos) << upload.err;
+
+  const std::vector<std::pair<std::string, std::string>> refusals = {
+      {"submit " + empty + " " + creature, "source mesh '" + empty + "': the mesh file is empty"},
+      {"submit " + creature + " " + missing, "target mesh '" + missing + "': neither a mesh file nor a mesh name"},
+      {"submit " + creature + " " + broken, "cannot upload target mesh '" + broken + "': not a usable mesh"},
+      {"match " + broken + " " + creature + " -o " + (data_dir() / "x.map").string(),
+       "cannot upload source mesh '" + broken + "': not a usable mesh"},
+      {"match " + creature + " " + empty + " -o " + (data_dir() / "x.map").string(),
+       "target mesh '" + empty + "': the mesh file is empty"},
+  };
+  for (const auto& [arguments, expected] : refusals) {
+    const CommandRun run = server.client(arguments);
+    EXPECT_EQ(run.exit_code, 2) << arguments << "\n" << run.err;
+    EXPECT_NE(run.err.find(expected), std::string::npos) << arguments << "\n" << run.err;
+  }
+  EXPECT_FALSE(fs::exists(data_dir() / "x.map"));
+
+  const CommandRun negative = server.client("wait jobs/0123456789abcdef --wait-seconds -1");
+  EXPECT_EQ(negative.exit_code, 2) << negative.err;
+  EXPECT_NE(negative.err.find("--wait-seconds: must not be negative"), std::string::npos) << negative.err;
+}
+
 TEST_F(Service, TokenRequiredForEverythingButHealth) {
   ServerProcess server(data_dir(), {"--token-file", path("token").string()});
   EXPECT_EQ(server.client("health").exit_code, 0);
