@@ -10,6 +10,8 @@
 #include <pqxx/pqxx>
 #include <spdlog/spdlog.h>
 
+#include "isocorr/v1/isocorr.grpc.pb.h"
+
 namespace isocorr::server {
 namespace {
 
@@ -30,8 +32,11 @@ std::string with_connect_timeout(const std::string& url) {
 StoreHealth::StoreHealth(const ServerOptions& options, grpc::HealthCheckServiceInterface& health)
     : data_dir_(options.data_dir),
       postgres_url_(with_connect_timeout(options.store)),
-      health_(health),
-      thread_([this] { run(); }) {}
+      health_(health) {
+  health_.SetServingStatus(kLivenessService, true);
+  set_serving(true);  // the store was just opened
+  thread_ = std::thread([this] { run(); });
+}
 
 StoreHealth::~StoreHealth() {
   {
@@ -43,7 +48,7 @@ StoreHealth::~StoreHealth() {
 }
 
 void StoreHealth::run() {
-  bool serving = true;  // the store was just opened
+  bool serving = true;
   std::unique_lock lock(mutex_);
   while (!wake_.wait_for(lock, kProbeInterval, [this] { return stopping_; })) {
     lock.unlock();
@@ -51,12 +56,18 @@ void StoreHealth::run() {
     lock.lock();
     if (stopping_ || problem.empty() == serving) continue;
     serving = problem.empty();
-    health_.SetServingStatus(serving);
+    set_serving(serving);
     if (serving)
       spdlog::info("store reachable again: health SERVING");
     else
       spdlog::warn("store unreachable, health NOT_SERVING until it is back: {}", problem);
   }
+}
+
+void StoreHealth::set_serving(bool serving) {
+  for (const std::string& service : {std::string(), std::string(v1::MeshService::service_full_name()),
+                                     std::string(v1::JobService::service_full_name())})
+    health_.SetServingStatus(service, serving);
 }
 
 std::string StoreHealth::probe() {

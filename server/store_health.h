@@ -1,7 +1,9 @@
-// grpc.health.v1 follows the store, which readiness probes rely on: NOT_SERVING while it
-// cannot be reached, SERVING again once it can. A thread probes it every second: the data
-// directory must exist and be writable; PostgreSQL must answer SELECT 1 (on a connection of
-// the probe's own, so that a busy pool does not make the server look down).
+// grpc.health.v1 follows the store, which readiness probes rely on: the server ("") and its
+// services are NOT_SERVING while it cannot be reached, SERVING again once it can. A thread
+// probes it every second: the data directory must exist and be writable; PostgreSQL must
+// answer SELECT 1 (on a connection of the probe's own, so that a busy pool does not make the
+// server look down). The service name "liveness" stays SERVING while the process answers:
+// a liveness probe must not restart every replica because the shared store is down.
 #pragma once
 
 #include <condition_variable>
@@ -17,6 +19,8 @@
 
 namespace isocorr::server {
 
+inline constexpr const char* kLivenessService = "liveness";
+
 class StoreHealth {
  public:
   // Starts probing; `health` must outlive this object.
@@ -27,6 +31,7 @@ class StoreHealth {
 
  private:
   void run();
+  void set_serving(bool serving);
   // Empty when the store can be reached, else why not.
   std::string probe();
   std::string probe_postgres();
@@ -37,7 +42,7 @@ class StoreHealth {
   std::mutex mutex_;
   std::condition_variable wake_;
   bool stopping_ = false;
-  std::thread thread_;  // last: started once the rest is ready
+  std::thread thread_;
 };
 
 }  // namespace isocorr::server

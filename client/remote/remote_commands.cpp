@@ -270,10 +270,12 @@ RemoteMatchRunner register_remote_commands(CLI::App& app, ConnectionOptions& opt
               })
       ->add_option("mesh", *delete_name, "meshes/SHA256")->required();
 
-  // health
+  // health [--service NAME]
+  auto service = std::make_shared<std::string>();
   add_command(app, "health", "ask the server's grpc.health.v1 service; exit 0 when it is serving", options, exit_code,
-              [](Connection& connection, bool json) {
+              [service](Connection& connection, bool json) {
                 grpc::health::v1::HealthCheckRequest request;
+                request.set_service(*service);
                 grpc::health::v1::HealthCheckResponse response;
                 auto context = connection.context();
                 check_rpc(connection.health().Check(context.get(), request, &response), *context,
@@ -282,7 +284,10 @@ RemoteMatchRunner register_remote_commands(CLI::App& app, ConnectionOptions& opt
                 print_line(json ? to_json(response)
                                 : grpc::health::v1::HealthCheckResponse::ServingStatus_Name(response.status()));
                 return serving ? kExitOk : kExitUnavailable;
-              });
+              })
+      ->add_option("--service", *service,
+                   "the service to ask about (default: the server; \"liveness\": the process answers, whether "
+                   "the store can be reached or not)");
 
   return [&options](const MatchJobFiles& files) -> std::optional<int> {
     if (options.server.empty()) return std::nullopt;

@@ -16,10 +16,10 @@ namespace {
 namespace fs = std::filesystem;
 
 // Polls `isocorr health` (bounded: two minutes) until it prints `status`.
-bool health_becomes(const ServerProcess& server, const std::string& status) {
+bool health_becomes(const ServerProcess& server, const std::string& status, const std::string& service = "") {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(2);
   while (std::chrono::steady_clock::now() < deadline) {
-    if (server.client("health --timeout 10").out == status + "\n") return true;
+    if (server.client("health --timeout 10 --service '" + service + "'").out == status + "\n") return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
   }
   return false;
@@ -40,9 +40,13 @@ TEST_F(StoreHealth, NotServingWhilePostgresIsStopped) {
     ASSERT_TRUE(health_becomes(server, "SERVING"));
     ASSERT_TRUE(postgres_->stop());
     const bool down = health_becomes(server, "NOT_SERVING");
+    const bool job_service_down = health_becomes(server, "NOT_SERVING", "isocorr.v1.JobService");
+    const CommandRun alive = server.client("health --service liveness");
     const bool restarted = postgres_->start();  // before any assertion ends the test: the suite shares it
     ASSERT_TRUE(restarted);
     EXPECT_TRUE(down) << slurp_file(server.log_path());
+    EXPECT_TRUE(job_service_down);
+    EXPECT_EQ(alive.out, "SERVING\n") << alive.err;  // a liveness probe must not restart it
     EXPECT_EQ(server.client("health").exit_code, down ? 3 : 0);
     EXPECT_TRUE(health_becomes(server, "SERVING")) << slurp_file(server.log_path());
     EXPECT_EQ(server.client("health").exit_code, 0);
