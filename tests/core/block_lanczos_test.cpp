@@ -3,6 +3,7 @@
 // and the dense path for small problems.
 #include "isocorr/spectral/block_lanczos.h"
 
+#include <limits>
 #include <random>
 
 #include <Eigen/Dense>
@@ -110,6 +111,22 @@ TEST(BlockLanczos, RunningOutOfRestartsIsAnInputError) {
   options.max_restarts = 0;
   options.tolerance = 1e-15;
   EXPECT_THROW(largest_eigenpairs(t.op(), t.weights, 30, options), InputError);
+}
+
+// An operator that overflows or weights that are not finite end the solve with an error,
+// never a loop: a mesh scaled to the limits of double once spun here for ever.
+TEST(BlockLanczos, NonFiniteOperatorOrWeightsAreAnErrorNotALoop) {
+  const Eigen::VectorXd weights = Eigen::VectorXd::Ones(200);
+  const BlockOperator overflowing = [](const Eigen::MatrixXd& x, Eigen::MatrixXd& y) {
+    y = x * std::numeric_limits<double>::infinity();
+  };
+  EXPECT_THROW(largest_eigenpairs(overflowing, weights, 10), NumericalError);
+  const BlockOperator identity = [](const Eigen::MatrixXd& x, Eigen::MatrixXd& y) { y = x; };
+  Eigen::VectorXd broken = weights;
+  broken[3] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(largest_eigenpairs(identity, broken, 10), NumericalError);
+  broken[3] = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(largest_eigenpairs(identity, broken, 10), NumericalError);
 }
 
 }  // namespace

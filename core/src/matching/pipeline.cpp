@@ -1,6 +1,7 @@
 #include "isocorr/matching/pipeline.h"
 
 #include <future>
+#include <string>
 
 #include "isocorr/output/match_report.h"
 
@@ -10,6 +11,17 @@ namespace {
 // Share of the progress bar taken by each side's preprocessing; the match has the rest.
 // A cached shape makes its share pass at once.
 constexpr double kPreprocessShare = 0.1;
+
+// A numerical failure says which mesh it came from: the message is all a user sees.
+std::shared_ptr<const PreprocessedShape> shape_naming_failures(ShapeProvider& shapes, ShapeRole role,
+                                                               const PreprocessOptions& options,
+                                                               const JobControl& control) {
+  try {
+    return shapes.shape(role, options, control);
+  } catch (const NumericalError& e) {
+    throw NumericalError(std::string(role == ShapeRole::kSource ? "source" : "target") + " mesh: " + e.what());
+  }
+}
 
 }  // namespace
 
@@ -39,9 +51,10 @@ MatchResult run_match(ShapeProvider& shapes, const MatchSettings& settings, cons
   // geodesic work, so one side alone leaves a core idle for much of its time (michael0 ->
   // michael1, 52K vertices, 2 cores: 17.2 s one after the other, 14.6 s at once). The
   // target's stage then times only what is left of it.
-  auto target_shape = std::async(std::launch::async,
-                                 [&shapes, &options, &control] { return shapes.shape(ShapeRole::kTarget, options, control); });
-  const auto source = shapes.shape(ShapeRole::kSource, options, control);
+  auto target_shape = std::async(std::launch::async, [&shapes, &options, &control] {
+    return shape_naming_failures(shapes, ShapeRole::kTarget, options, control);
+  });
+  const auto source = shape_naming_failures(shapes, ShapeRole::kSource, options, control);
   clock.finish("preprocess-source");
   control.report({"preprocess-target", 0, 0, kPreprocessShare});
   const auto target = target_shape.get();

@@ -35,6 +35,8 @@ std::shared_ptr<const PreprocessedShape> PreprocessedShape::build(const Triangle
   shape->normals_ = vertex_normals(mesh);
   shape->area_ = total_area(mesh);
   shape->mean_edge_ = mean_edge_length(mesh);
+  if (!(std::isfinite(shape->area_) && shape->area_ > 0 && std::isfinite(shape->mean_edge_)))
+    throw NumericalError("the surface area or edge lengths are not finite and positive");
   control.check_cancelled();
 
   const int threads = resolve_thread_count(options.threads);
@@ -95,6 +97,8 @@ std::shared_ptr<const PreprocessedShape> PreprocessedShape::build(const Triangle
     }
   });
   shape->diameter_ = std::max<double>(diameter, *std::max_element(farthest.begin(), farthest.end()));
+  if (!(std::isfinite(shape->diameter_) && shape->diameter_ > 0))
+    throw NumericalError("the geodesic diameter is not finite and positive");
   const float inverse_diameter = static_cast<float>(1.0 / shape->diameter_);
   for (float& value : shape->fields_) value = value == kUnreached ? 1.f : value * inverse_diameter;
   const int sample_count = shape->num_samples();
@@ -110,6 +114,8 @@ std::shared_ptr<const PreprocessedShape> PreprocessedShape::build(const Triangle
     // Mass-orthonormal eigenvectors scaled by sqrt(area): the same shape at another scale
     // gets the same embedding, so spectral distances compare across meshes.
     const LaplaceBasis solved = basis.get();
+    if (!solved.eigenvectors.allFinite() || !solved.eigenvalues.allFinite())
+      throw NumericalError("the Laplace-Beltrami basis has a non-finite value");
     shape->spectral_basis_ = (solved.eigenvectors * std::sqrt(shape->area_)).cast<float>();
     shape->spectral_eigenvalues_ = (solved.eigenvalues * shape->area_).cast<float>();
   }

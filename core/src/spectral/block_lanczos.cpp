@@ -32,6 +32,9 @@ const double kSemiOrthogonality = std::sqrt(std::numeric_limits<double>::epsilon
 // Guards the lean's quotient for a column that the local pass left at zero.
 constexpr double kTiny = 1e-300;
 constexpr unsigned kStartSeed = 20191;
+// Random directions drawn for one missing basis vector before the operator is declared broken:
+// a sane operator leaves a random direction outside the basis with probability one.
+constexpr int kRandomDirectionTries = 16;
 // Residuals within this many rounding units of the operator's norm count as converged.
 constexpr double kResidualRounding = 10;
 // Rows rotated at a time by a thick restart (the rotation is done in place, chunk by chunk).
@@ -216,9 +219,10 @@ class WeightedBasis {
   }
 
   // A random unit vector orthogonal to the basis and to the first `count` columns of `block`.
+  // Throws NumericalError when none is found: the basis or the weights are not finite.
   Vector random_orthogonal(const Matrix& block, int count, std::mt19937& random) const {
     std::uniform_real_distribution<double> uniform(-1, 1);
-    for (;;) {
+    for (int attempt = 0; attempt < kRandomDirectionTries; ++attempt) {
       Block candidate = Block::Zero(weights_.size(), kLanczosBlock);
       for (Eigen::Index i = 0; i < candidate.rows(); ++i) candidate(i, 0) = uniform(random);
       Block coefficients;
@@ -231,8 +235,9 @@ class WeightedBasis {
           candidate.col(0) -= weighted_dot(block.col(i), candidate.col(0)) * block.col(i);
       }
       const double norm = weighted_norm(candidate.col(0));
-      if (norm > kDependentShare) return candidate.col(0) / norm;
+      if (norm > kDependentShare && std::isfinite(norm)) return candidate.col(0) / norm;
     }
+    throw NumericalError("eigensolver: no random direction stays independent of the basis; its vectors are not finite");
   }
 
   const Vector& weights_;
@@ -271,6 +276,8 @@ BlockLanczosResult largest_eigenpairs(const BlockOperator& apply, const Vector& 
   // ARPACK keeps them, so the wanted ones converge at the rate of the gap to the discarded.
   const int wanted_subspace = options.subspace > 0 ? options.subspace : 2 * count + 2 * b;
   const Eigen::Index m = b * std::max((count + b) / b + 1, (wanted_subspace + b - 1) / b);
+  if (!weights.allFinite() || weights.minCoeff() <= 0)
+    throw NumericalError("eigensolver: the inner product's weights are not all finite and positive");
   if (m + b > n) return dense_eigenpairs(apply, weights, count);
   const Eigen::Index kept = m - b * std::max<Eigen::Index>(1, (m - count) / 2 / b);
 
@@ -295,6 +302,7 @@ BlockLanczosResult largest_eigenpairs(const BlockOperator& apply, const Vector& 
     while (done < m) {
       apply(basis.column_block(done), product);
       result.products += b;
+      if (!product.allFinite()) throw NumericalError("eigensolver: the operator produced a non-finite value");
       const Eigen::Index rows = basis.size();
       // The three-term recurrence: the product couples to its own block and the one before,
       // except the first block of a cycle, which couples to every kept vector.

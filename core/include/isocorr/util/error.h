@@ -13,6 +13,14 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A computation met a value it cannot go on from (a non-finite intermediate, a solver that
+// lost its footing). Raised instead of looping. An input the engine cannot compute with is
+// unusable input, so it is an InputError to every caller.
+class NumericalError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 // Raised inside the engine when its cancellation flag is set.
 class Cancelled : public std::runtime_error {
  public:
