@@ -129,5 +129,26 @@ TEST(MatcherSelfMatch, IdentityComesBack) {
   EXPECT_LT(result.diso, 1e-3);
 }
 
+// A mesh is matched the same at any scale: coordinates near the largest double (which once
+// sent the eigensolver into an endless loop) and near the smallest normal ones (whose faces
+// once all looked degenerate) give the map of the unscaled mesh.
+TEST(MatcherAtAnyScale, ExtremeCoordinatesGiveTheSameMap) {
+  const TriangleMesh blob = limbed_blob(3);
+  const RenumberedCopy copy = rotated_scaled_renumbered(blob, 1.7, 2024);
+  MatchSettings settings;
+  settings.threads = 2;
+  const MatchResult reference = match_meshes(blob, copy.mesh, settings);
+  auto scaled = [](TriangleMesh mesh, double largest) {
+    double now = 0;
+    for (const Vec3& p : mesh.vertices) now = std::max(now, p.cwiseAbs().maxCoeff());
+    for (Vec3& p : mesh.vertices) p = p / now * largest;
+    return mesh;
+  };
+  for (const double largest : {1e308, 1e-160}) {
+    const MatchResult result = match_meshes(scaled(blob, largest), scaled(copy.mesh, largest), settings);
+    EXPECT_EQ(result.output.forward, reference.output.forward) << largest;
+  }
+}
+
 }  // namespace
 }  // namespace isocorr

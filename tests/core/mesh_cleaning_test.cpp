@@ -283,6 +283,31 @@ TEST(MeshCleaning, CleansSixtyThousandVerticesQuickly) {
   EXPECT_GT(signed_volume(clean.mesh), 0);
 }
 
+// Coincident unused vertices once made welding quadratic (each one's radius search listed all
+// the others): a million of them now clean as fast as any other million vertices.
+TEST(MeshCleaning, MillionCoincidentUnusedVerticesWeldInOneGroup) {
+  TriangleMesh input = tetrahedron();
+  input.vertices.resize(4 + 1'000'000, Vec3(0.25, 0.25, 0.25));
+  const CleanMesh clean = clean_mesh(input);
+  EXPECT_EQ(clean.mesh.num_vertices(), 4);
+  EXPECT_TRUE(mentions(clean.repairs, "welded 999999 duplicate vertices")) << joined(clean.repairs);
+  EXPECT_EQ(clean.input_to_clean[4], clean.input_to_clean[1'000'003]);
+}
+
+// Cleaning works on normalised coordinates, so the scale of the file changes nothing: at
+// 1e-160 every face's area once underflowed to zero and the mesh was refused.
+TEST(MeshCleaning, ScaleOfTheCoordinatesChangesNothing) {
+  const CleanMesh reference = clean_mesh(tetrahedron());
+  for (const double scale : {1e-160, 1e160, 1e308}) {
+    const CleanMesh clean = clean_mesh(tetrahedron(Vec3::Zero(), scale));
+    EXPECT_EQ(clean.mesh.faces, reference.mesh.faces) << scale;
+    for (int v = 0; v < 4; ++v)
+      EXPECT_EQ(clean.normalisation.to_input(clean.mesh.vertices[v]), tetrahedron(Vec3::Zero(), scale).vertices[v]);
+  }
+  TriangleMesh collapsed = tetrahedron(Vec3(5, 5, 5), 0.0);
+  EXPECT_THROW(clean_mesh(collapsed), InputError);
+}
+
 TEST(MeshCleaning, CleansRealMeshFromSharedData) {
   const std::string path = std::string(ISOCORR_SHARED_DATA_DIR) + "/tosca_hires/off/wolf0.off";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data not found at " << path;

@@ -17,7 +17,9 @@
 #include <Eigen/Geometry>
 
 #include "isocorr/util/error.h"
+#include "isocorr/mesh/coordinate_normalisation.h"
 #include "isocorr/util/kd_tree.h"
+#include "isocorr/util/radius_components.h"
 #include "isocorr/util/union_find.h"
 
 namespace isocorr {
@@ -61,16 +63,25 @@ bool is_degenerate(const std::vector<Vec3>& points, const Face& f) {
   return e0.cross(e1).norm() <= 1e-12 * longest_squared;
 }
 
-// Stable counting sort by a vertex index in [0, num_vertices): linear, so grouping edges and
-// faces by their vertices never costs a comparison sort.
-template <class Item, class Key>
-void sort_by_vertex(std::vector<Item>& items, int num_vertices, const Key& key) {
-  std::vector<int> start(num_vertices + 1, 0);
-  for (const Item& item : items) ++start[key(item) + 1];
+// Items grouped by a vertex index in [0, num_vertices) (a counting sort, linear), then ordered
+// within each group by `less`. Items are made twice from their sources (once counted, once
+// placed) rather than copied, so the sorted array is the only one held: cleaning's peak
+// memory is a few of these arrays, a bounded multiple of the file size.
+template <class Item, class Make, class Key, class Less>
+std::vector<Item> grouped_by_vertex(size_t sources, int num_vertices, const Make& make, const Key& key,
+                                    const Less& less) {
+  std::vector<size_t> start(static_cast<size_t>(num_vertices) + 1, 0);
+  for (size_t i = 0; i < sources; ++i) ++start[key(make(i)) + 1];
   std::partial_sum(start.begin(), start.end(), start.begin());
-  std::vector<Item> sorted(items.size());
-  for (const Item& item : items) sorted[start[key(item)]++] = item;
-  items.swap(sorted);
+  std::vector<Item> sorted(start.back());
+  std::vector<size_t> next(start.begin(), start.end() - 1);
+  for (size_t i = 0; i < sources; ++i) {
+    const Item item = make(i);
+    sorted[next[key(item)]++] = item;
+  }
+  for (int v = 0; v < num_vertices; ++v)
+    if (start[v + 1] - start[v] > 1) std::sort(sorted.begin() + start[v], sorted.begin() + start[v + 1], less);
+  return sorted;
 }
 
 // One corner's edge of a face, keyed by its endpoints in increasing order.
@@ -78,22 +89,32 @@ struct EdgeUse {
   int low, high, face, corner;
 };
 
-// All edge uses, grouped by undirected edge and in face order within a group.
-std::vector<EdgeUse> sorted_edge_uses(const std::vector<Face>& faces, int num_vertices) {
-  std::vector<EdgeUse> uses;
-  uses.reserve(3 * faces.size());
-  for (int f = 0; f < static_cast<int>(faces.size()); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const auto [low, high] = std::minmax(faces[f][k], faces[f][(k + 1) % 3]);
-      uses.push_back({low, high, f, k});
-    }
-  sort_by_vertex(uses, num_vertices, [](const EdgeUse& u) { return u.high; });
-  sort_by_vertex(uses, num_vertices, [](const EdgeUse& u) { return u.low; });
-  return uses;
-}
+// All edge uses, grouped by undirected edge and in face order within a group. Held as use
+// numbers (3 face + corner, four bytes each) and expanded where read.
+class SortedEdgeUses {
+ public:
+  SortedEdgeUses(const std::vector<Face>& faces, int num_vertices) : faces_(faces) {
+    order_ = grouped_by_vertex<int>(
+        3 * faces.size(), num_vertices, [](size_t i) { return static_cast<int>(i); },
+        [&](int i) { return (*this)(i).low; },
+        [&](int a, int b) { return std::pair((*this)(a).high, a) < std::pair((*this)(b).high, b); });
+  }
+  size_t size() const { return order_.size(); }
+  EdgeUse operator[](size_t k) const { return (*this)(order_[k]); }
+
+ private:
+  EdgeUse operator()(int use) const {
+    const int f = use / 3, k = use % 3;
+    const auto [low, high] = std::minmax(faces_[f][k], faces_[f][(k + 1) % 3]);
+    return {low, high, f, k};
+  }
+
+  const std::vector<Face>& faces_;
+  std::vector<int> order_;
+};
 
 // End of the group of uses of the same edge as uses[begin].
-size_t edge_run_end(const std::vector<EdgeUse>& uses, size_t begin) {
+size_t edge_run_end(const SortedEdgeUses& uses, size_t begin) {
   size_t end = begin + 1;
   while (end < uses.size() && uses[end].low == uses[begin].low && uses[end].high == uses[begin].high) ++end;
   return end;
@@ -107,7 +128,7 @@ std::vector<int> open_vertices(const TriangleMesh& mesh) {
   std::vector<bool> open(mesh.vertices.size(), true);
   for (const Face& f : mesh.faces)
     for (int v : f) open[v] = false;
-  const std::vector<EdgeUse> uses = sorted_edge_uses(mesh.faces, mesh.num_vertices());
+  const SortedEdgeUses uses(mesh.faces, mesh.num_vertices());
   for (size_t begin = 0, end = 0; begin < uses.size(); begin = end) {
     end = edge_run_end(uses, begin);
     if (end - begin == 1) open[uses[begin].low] = open[uses[begin].high] = true;
@@ -118,17 +139,6 @@ std::vector<int> open_vertices(const TriangleMesh& mesh) {
   return ids;
 }
 
-// rep[v]: the smallest-numbered vertex within `tolerance` of v (transitively), among the
-// candidates; every other vertex represents itself.
-std::vector<int> weld_vertices(const std::vector<Vec3>& points, const std::vector<int>& candidates, double tolerance) {
-  const int count = static_cast<int>(points.size());
-  UnionFind groups(count);
-  const KdTree tree(points, candidates);
-  for (int v : candidates) tree.within(points[v], tolerance, [&](int other) { groups.unite(v, other); });
-  std::vector<int> rep(count);
-  for (int v = 0; v < count; ++v) rep[v] = groups.find(v);
-  return rep;
-}
 
 // Faces across each edge (-1 on the boundary) and whether the neighbour runs the shared edge
 // in the same direction, i.e. disagrees in orientation.
@@ -138,7 +148,7 @@ struct FaceAdjacency {
 };
 
 FaceAdjacency build_adjacency(const std::vector<Face>& faces, int num_vertices) {
-  const std::vector<EdgeUse> uses = sorted_edge_uses(faces, num_vertices);
+  const SortedEdgeUses uses(faces, num_vertices);
   FaceAdjacency adjacency{std::vector<std::array<int, 3>>(faces.size(), {-1, -1, -1}),
                           std::vector<std::array<bool, 3>>(faces.size(), {false, false, false})};
   auto runs_forward = [&](const EdgeUse& u) { return faces[u.face][u.corner] < faces[u.face][(u.corner + 1) % 3]; };
@@ -149,7 +159,7 @@ FaceAdjacency build_adjacency(const std::vector<Face>& faces, int num_vertices) 
                            " (shared by ", end - begin,
                            " faces); the engine needs a manifold surface"));
     if (end - begin < 2) continue;
-    const EdgeUse &a = uses[begin], &b = uses[begin + 1];
+    const EdgeUse a = uses[begin], b = uses[begin + 1];
     const bool same = runs_forward(a) == runs_forward(b);
     adjacency.neighbour[a.face][a.corner] = b.face, adjacency.same_direction[a.face][a.corner] = same;
     adjacency.neighbour[b.face][b.corner] = a.face, adjacency.same_direction[b.face][b.corner] = same;
@@ -174,16 +184,19 @@ std::vector<Face> drop_degenerate_faces(const std::vector<Face>& input, const st
 
 // Drops later copies of a face with the same vertex set; returns how many.
 long long drop_duplicate_faces(std::vector<Face>& faces, int num_vertices) {
-  // Stably sorting the corner-sorted triples brings copies together, the first copy leading.
-  std::vector<std::pair<Face, int>> sorted(faces.size());
-  for (int f = 0; f < static_cast<int>(faces.size()); ++f) {
-    sorted[f] = {faces[f], f};
-    std::sort(sorted[f].first.begin(), sorted[f].first.end());
-  }
-  for (int corner = 2; corner >= 0; --corner)
-    sort_by_vertex(sorted, num_vertices, [corner](const std::pair<Face, int>& s) { return s.first[corner]; });
+  // Face numbers ordered by their corner-sorted triples, ties by number, bring copies together
+  // with the first copy leading; four bytes a face, the triples made again where compared.
+  auto triple = [&](int f) {
+    Face corners = faces[f];
+    std::sort(corners.begin(), corners.end());
+    return corners;
+  };
+  const std::vector<int> order = grouped_by_vertex<int>(
+      faces.size(), num_vertices, [](size_t f) { return static_cast<int>(f); },
+      [&](int f) { return *std::min_element(faces[f].begin(), faces[f].end()); },
+      [&](int a, int b) { return std::pair(triple(a), a) < std::pair(triple(b), b); });
   std::vector<bool> duplicate(faces.size(), false);
-  for (size_t i = 1; i < sorted.size(); ++i) duplicate[sorted[i].second] = sorted[i].first == sorted[i - 1].first;
+  for (size_t i = 1; i < order.size(); ++i) duplicate[order[i]] = triple(order[i]) == triple(order[i - 1]);
   const size_t before = faces.size();
   size_t kept = 0;
   for (size_t f = 0; f < before; ++f)
@@ -214,7 +227,7 @@ struct NonManifoldRepair {
 // patches the dropping leaves behind are handled by the steps after this one.
 NonManifoldRepair repair_non_manifold_edges(std::vector<Face>& faces, const std::vector<Vec3>& points,
                                             int num_vertices) {
-  const std::vector<EdgeUse> uses = sorted_edge_uses(faces, num_vertices);
+  const SortedEdgeUses uses(faces, num_vertices);
   std::vector<char> dropped(faces.size(), 0);
   NonManifoldRepair repair;
   struct HalfPlane {
@@ -372,9 +385,10 @@ int orient_outward(std::vector<Face>& faces, const Patches& patches, const std::
 
 CleanMesh clean_mesh(const TriangleMesh& input, const CleaningOptions& options) {
   validate_input(input);
-  const std::vector<Vec3>& points = input.vertices;
-  const int num_input = input.num_vertices();
   CleanMesh result;
+  std::vector<Vec3> points = input.vertices;
+  result.normalisation = normalise_coordinates(points);
+  const int num_input = input.num_vertices();
   std::vector<std::string>& repairs = result.repairs;
 
   // Until compaction, faces use input numbering with every welded group as its first vertex.
@@ -382,7 +396,9 @@ CleanMesh clean_mesh(const TriangleMesh& input, const CleaningOptions& options) 
   const double diagonal = bounding_diagonal(points);
   double tolerance = options.weld_tolerance * diagonal;
   if (!(tolerance > 1e-15 * diagonal)) tolerance = 0.0;
-  const std::vector<int> rep = weld_vertices(points, open_vertices(input), tolerance);
+  // rep[v]: the smallest-numbered vertex within `tolerance` of v (transitively) among the
+  // open vertices; every other vertex represents itself.
+  const std::vector<int> rep = radius_components(points, open_vertices(input), tolerance);
   long long welded = 0;
   for (int v = 0; v < num_input; ++v) welded += rep[v] != v;
   if (welded > 0) repairs.push_back(cat("welded ", count_of(welded, "duplicate vertex", "duplicate vertices")));

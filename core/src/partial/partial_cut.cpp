@@ -145,8 +145,9 @@ PartialShape cut_partial_shape(const TriangleMesh& full, const CutSpec& spec) {
       int& index = new_index[mesh.faces[f][c]];
       if (index < 0) {
         index = part.mesh.num_vertices();
-        part.mesh.vertices.push_back(mesh.vertices[mesh.faces[f][c]]);
-        part.full_vertex.push_back(clean.clean_to_input[mesh.faces[f][c]]);
+        const int input_vertex = clean.clean_to_input[mesh.faces[f][c]];
+        part.mesh.vertices.push_back(full.vertices[input_vertex]);  // in the file's coordinates
+        part.full_vertex.push_back(input_vertex);
       }
       face[c] = index;
     }

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "isocorr/mesh/coordinate_normalisation.h"
 #include "isocorr/mesh/triangle_mesh.h"
 
 namespace isocorr {
@@ -25,13 +26,16 @@ struct CleaningOptions {
 
 // The engine's mesh plus the bridge back to the file's numbering.
 struct CleanMesh {
-  TriangleMesh mesh;                  // compact, consistently oriented (outward when closed)
+  TriangleMesh mesh;                  // compact, consistently oriented (outward when closed), in
+                                      // normalised coordinates (coordinate_normalisation.h)
+  CoordinateNormalisation normalisation;  // from the input's coordinates to the mesh's
   std::vector<int> input_to_clean;    // for every input vertex, its vertex in `mesh`
   std::vector<int> clean_to_input;    // for every vertex of `mesh`, one input vertex
   std::vector<std::string> repairs;   // each repair done, in words, for the report
 };
 
-// Validates and repairs: welds duplicate vertices, drops degenerate and duplicate faces,
+// Validates, normalises the coordinates (exactly, by a power of two and a shift) and repairs:
+// welds duplicate vertices, drops degenerate and duplicate faces,
 // drops all but two faces on every non-manifold edge, drops unreferenced vertices (mapped
 // to the nearest kept vertex), keeps the largest component, makes face orientation
 // consistent and outward. Non-manifold vertices (separate fans meeting at one vertex) are
