@@ -63,13 +63,16 @@ LoadedMesh load_mesh(const std::string& path) {
   std::error_code error;
   if (std::filesystem::is_directory(path, error))
     throw InputError(cat("cannot read mesh file '", path, "': it is a directory"));
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) throw InputError(cat("cannot read mesh file '", path, "': ", std::strerror(errno)));
-  std::ostringstream contents;
-  contents << in.rdbuf();
-  if (in.bad()) throw InputError(cat("cannot read mesh file '", path, "': read error"));
+  // Read straight into one buffer of the file's size: the bytes are held once while parsing.
+  std::string contents(static_cast<size_t>(std::max<std::streamoff>(in.tellg(), 0)), '\0');
+  in.seekg(0);
+  in.read(contents.data(), static_cast<std::streamsize>(contents.size()));
+  if (in.bad() || static_cast<size_t>(in.gcount()) != contents.size())
+    throw InputError(cat("cannot read mesh file '", path, "': read error"));
   try {
-    return parse_mesh(contents.str(), path);
+    return parse_mesh(contents, path);
   } catch (const InputError& e) {
     throw InputError(cat(path, ": ", e.what()));
   }

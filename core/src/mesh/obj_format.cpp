@@ -1,6 +1,4 @@
 // Wavefront OBJ: vertex positions and faces; everything else in the file is skipped.
-#include <vector>
-
 #include "mesh_builder.h"
 #include "mesh_formats.h"
 #include "text_scanning.h"
@@ -10,9 +8,9 @@ namespace isocorr::mesh_formats {
 LoadedMesh parse_obj(string_view text) {
   constexpr const char* kFormat = "OBJ";
   MeshBuilder builder(kFormat, 1);
+  builder.reserve_for_text(text.size());
   Lines lines(text);
   string_view line, token;
-  std::vector<long long> corners;
   while (lines.next(line)) {
     Tokens values(line);
     values.next(token);
@@ -24,7 +22,7 @@ LoadedMesh parse_obj(string_view text) {
           fail(kFormat, cat("line ", line_number, ": a vertex needs three numeric coordinates"));
       builder.add_vertex(xyz[0], xyz[1], xyz[2], {"the vertex on line", line_number});
     } else if (token == "f") {
-      corners.clear();
+      builder.begin_polygon({"the face on line", line_number});
       while (values.next(token)) {
         // "a", "a/b", "a//c", "a/b/c": only the position index matters.
         long long index = 0;
@@ -38,9 +36,9 @@ LoadedMesh parse_obj(string_view text) {
         } else {
           index -= 1;
         }
-        corners.push_back(index);
+        builder.add_corner(index);
       }
-      builder.add_polygon(corners, {"the face on line", line_number});
+      builder.end_polygon();
     }
     // vt, vn, g, o, s, usemtl, mtllib, l, ... carry nothing the engine uses.
   }

@@ -51,6 +51,7 @@ LoadedMesh parse_off(string_view text) {
 
   MeshBuilder builder(kFormat, 0);
   builder.expect(num_vertices, num_faces);
+  builder.reserve_for_text(static_cast<size_t>(available));
   for (long long v = 0; v < num_vertices; ++v) {
     if (!lines.next(line))
       fail(kFormat, cat("the file ends after ", v, " of ", num_vertices, " vertices (truncated?)"));
@@ -61,7 +62,6 @@ LoadedMesh parse_off(string_view text) {
         fail(kFormat, cat("vertex ", v, " (line ", lines.number(), ") needs three numeric coordinates"));
     builder.add_vertex(xyz[0], xyz[1], xyz[2], {"vertex", v});
   }
-  std::vector<long long> corners;
   for (long long f = 0; f < num_faces; ++f) {
     if (!lines.next(line)) fail(kFormat, cat("the file ends after ", f, " of ", num_faces, " faces (truncated?)"));
     Tokens values(line);
@@ -70,17 +70,16 @@ LoadedMesh parse_off(string_view text) {
       fail(kFormat, cat("face ", f, " (line ", lines.number(), ") should start with its corner count, not ",
                         shown(token)));
     builder.require_corner_count(count, {"face", f});
-    corners.clear();
-    while (static_cast<long long>(corners.size()) < count) {  // grows only with tokens present
+    builder.begin_polygon({"face", f});
+    for (long long listed = 0; listed < count; ++listed) {
       long long index = 0;
       if (!values.next(token))
-        fail(kFormat,
-             cat("face ", f, " (line ", lines.number(), ") lists ", corners.size(), " of its ", count, " corners"));
+        fail(kFormat, cat("face ", f, " (line ", lines.number(), ") lists ", listed, " of its ", count, " corners"));
       if (!parse_integer(token, index))
         fail(kFormat, cat("face ", f, " (line ", lines.number(), "): ", shown(token), " is not a vertex index"));
-      corners.push_back(index);
+      builder.add_corner(index);
     }
-    builder.add_polygon(corners, {"face", f});
+    builder.end_polygon();
   }
   return builder.finish("off");
 }

@@ -268,7 +268,6 @@ LoadedMesh parse_ply(string_view bytes) {
   MeshBuilder builder(kFormat, 0);
   builder.expect(vertex_element->count, face_element->count);
   PlyValues values(bytes.substr(header.body_offset), header.encoding);
-  std::vector<long long> corners;
   int elements_left = 2;  // trailing elements after vertices and faces need not be read
   for (const PlyElement& element : header.elements) {
     if (element.properties.empty()) continue;  // records without properties take no bytes
@@ -282,9 +281,9 @@ LoadedMesh parse_ply(string_view bytes) {
           const long long count = values.read_integer(property.count_type, "corner count");
           builder.require_corner_count(count, {"face", record});
           values.require(property.type, count);
-          corners.clear();
-          for (long long k = 0; k < count; ++k) corners.push_back(values.read_integer(property.type, "vertex index"));
-          builder.add_polygon(corners, {"face", record});
+          builder.begin_polygon({"face", record});
+          for (long long k = 0; k < count; ++k) builder.add_corner(values.read_integer(property.type, "vertex index"));
+          builder.end_polygon();
         } else if (is_vertex && !property.is_list && (p == xyz[0] || p == xyz[1] || p == xyz[2])) {
           coordinates[p == xyz[0] ? 0 : p == xyz[1] ? 1 : 2] = values.read(property.type);
         } else {
