@@ -20,6 +20,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     ISOCORR_FUZZ_CHECK(static_cast<int>(clean.clean_to_input.size()) == clean_vertices);
     for (int v : clean.input_to_clean) ISOCORR_FUZZ_CHECK(v >= 0 && v < clean_vertices);
     for (int v : clean.clean_to_input) ISOCORR_FUZZ_CHECK(v >= 0 && v < input_vertices);
+    // Every accepted mesh is computed on in the normalised range, whatever its file's scale.
+    for (const auto& p : clean.mesh.vertices) ISOCORR_FUZZ_CHECK(p.allFinite() && p.cwiseAbs().maxCoeff() <= 3.0);
     for (const auto& face : clean.mesh.faces)
       for (int v : face) ISOCORR_FUZZ_CHECK(v >= 0 && v < clean_vertices);
   } catch (const isocorr::InputError&) {
