@@ -2,6 +2,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 
 #include <CLI/CLI.hpp>
@@ -18,8 +19,12 @@
 namespace isocorr::cli {
 namespace {
 
+// The first Ctrl-C cancels the match at its next safe point (within a second); a second one
+// ends the process at once.
 std::atomic<bool> g_interrupted{false};
-void on_interrupt(int) { g_interrupted = true; }
+void on_interrupt(int) {
+  if (g_interrupted.exchange(true)) std::_Exit(130);
+}
 
 int match_locally(const MatchJobFiles& args) {
   const auto start = std::chrono::steady_clock::now();

@@ -6,7 +6,10 @@
 
 #include <filesystem>
 #include <fstream>
+#include <cstdlib>
 #include <memory>
+#include <string>
+#include <thread>
 
 #include <CLI/CLI.hpp>
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
@@ -56,6 +59,24 @@ class WithoutReflection final : public grpc::ServerBuilderOption {
   }
 };
 
+// Shutdown waits for open calls and running jobs, and a stuck one (a computation that never
+// looks at its cancel flag) would keep the process alive past any orchestrator's grace
+// period. Nothing is lost by ending it: every acknowledged byte is already durable, as
+// after a kill -9, and interrupted jobs are taken up at the next start. So a second signal,
+// or the grace period and a second more passing, ends the process at once.
+void end_process_if_shutdown_stalls(const sigset_t& signals, int grace_seconds) {
+  std::thread([signals, grace_seconds] {
+    const timespec timeout{grace_seconds + 1, 0};
+    const int second = sigtimedwait(&signals, nullptr, &timeout);
+    if (second > 0)
+      spdlog::warn("signal {} again: stopping now", second);
+    else
+      spdlog::error("shutdown still not done {} s after the signal: stopping now", grace_seconds + 1);
+    spdlog::default_logger()->flush();
+    std::_Exit(1);
+  }).detach();
+}
+
 int run(const ServerOptions& options) {
   // SIGTERM and SIGINT are taken by sigwait below, so block them before any thread starts.
   sigset_t signals;
@@ -67,9 +88,9 @@ int run(const ServerOptions& options) {
   // instead of killing the server.
   signal(SIGXFSZ, SIG_IGN);
 
-  if (options.max_upload_bytes_in_flight < options.max_mesh_bytes)
-    throw std::runtime_error("--max-upload-bytes-in-flight must be at least --max-mesh-bytes, or no mesh of the "
-                             "largest size could be uploaded");
+  if (options.upload_memory < UploadBudget::memory_for(options.max_mesh_bytes))
+    throw std::runtime_error("--upload-memory must be at least " + std::to_string(UploadBudget::kMemoryPerFileByte) +
+                             " times --max-mesh-bytes, or no mesh of the largest size could be uploaded");
   const TokenAuth auth(options.token_file.empty() ? "" : read_secret(options.token_file, "token file"));
   ShapeCache cache(options.cache_bytes);
   const std::unique_ptr<Store> store = open_store(options, cache);
@@ -83,7 +104,7 @@ int run(const ServerOptions& options) {
       write_file_durably(options.metrics_port_file, std::to_string(metrics->port()) + "\n");
   }
 
-  UploadBudget upload_budget(options.max_upload_bytes_in_flight);
+  UploadBudget upload_budget(options.upload_memory);
   MeshServiceImpl mesh_service(meshes, cache, jobs, upload_budget, auth);
   JobServiceImpl job_service(jobs, auth);
   grpc::EnableDefaultHealthCheckService(true);
@@ -118,6 +139,7 @@ int run(const ServerOptions& options) {
   int signal_number = 0;
   sigwait(&signals, &signal_number);
   spdlog::info("signal {}: shutting down (running jobs are kept for the next start)", signal_number);
+  end_process_if_shutdown_stalls(signals, options.shutdown_grace_seconds);
   // Watches and waits end at once with UNAVAILABLE, not CANCELLED: their jobs are kept.
   job_service.stop_long_calls();
   // Stop accepting; calls still open after the grace period are cancelled.

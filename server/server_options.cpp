@@ -24,14 +24,18 @@ void add_server_flags(CLI::App& app, ServerOptions& o) {
   app.add_option("--threads", o.threads, "jobs run at once (worker threads)")->check(CLI::Range(1, 256))->capture_default_str();
   app.add_option("--cache-bytes", o.cache_bytes, "memory for preprocessed meshes shared by jobs (LRU)")->capture_default_str();
   app.add_option("--max-mesh-bytes", o.max_mesh_bytes, "largest mesh file accepted by UploadMesh")->capture_default_str();
-  app.add_option("--max-upload-bytes-in-flight", o.max_upload_bytes_in_flight,
-                 "UploadMesh fails with RESOURCE_EXHAUSTED while the uploads in progress announce more bytes "
-                 "than this in all (at least --max-mesh-bytes)")
+  app.add_option("--upload-memory", o.upload_memory,
+                 "memory the uploads in progress may take together, each 18 times its size (the reading "
+                 "peak and its bytes); beyond it UploadMesh fails with RESOURCE_EXHAUSTED (at least 18 times "
+                 "--max-mesh-bytes)")
       ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--max-queued-jobs", o.max_queued_jobs, "CreateMatchJob fails with RESOURCE_EXHAUSTED beyond this")
       ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--max-attempts", o.max_attempts, "times a job interrupted by a crash is started before it fails")
       ->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--job-time-limit", o.job_time_limit_seconds,
+                 "seconds a job may run before it fails with DEADLINE_EXCEEDED (0: no limit)")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
   app.add_option("--shutdown-grace", o.shutdown_grace_seconds, "seconds open calls get on SIGTERM")->capture_default_str();
   app.add_option("--token-file", o.token_file, "require 'authorization: Bearer <token>' with the token in this file")
       ->check(CLI::ExistingFile);

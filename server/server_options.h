@@ -20,12 +20,12 @@ struct ServerOptions {
   std::string replica_id;                   // claimed_by of this replica's jobs (default host-pid-random)
   int threads = 1;                          // jobs run at once; each uses all cores (engine default)
   int64_t cache_bytes = int64_t{2} << 30;   // preprocessed meshes kept in memory
-  int64_t max_mesh_bytes = int64_t{512} << 20;
-  // Declared sizes of all uploads in progress together: parsing a mesh takes about twice
-  // its size in memory, so this bounds the memory uploads can take.
-  int64_t max_upload_bytes_in_flight = int64_t{512} << 20;
+  int64_t max_mesh_bytes = int64_t{128} << 20;
+  // Memory all uploads in progress may take together, each UploadBudget::memory_for its size.
+  int64_t upload_memory = int64_t{4} << 30;
   int max_queued_jobs = 64;
   int max_attempts = 2;                     // starts of a job interrupted by crashes before it fails
+  int job_time_limit_seconds = 3600;        // a job running longer fails with DEADLINE_EXCEEDED; 0 = none
   int shutdown_grace_seconds = 5;
   std::string token_file, tls_cert, tls_key;
   std::string port_file;                    // written with the bound port (for --listen HOST:0)

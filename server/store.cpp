@@ -37,8 +37,9 @@ std::unique_ptr<Store> open_store(const ServerOptions& options, ShapeCache& cach
     auto meshes = std::make_unique<MeshStore>(options.data_dir, options.max_mesh_bytes);
     store->journal = std::make_unique<JobJournal>(options.data_dir);
     store->jobs = std::make_unique<JobManager>(
-        JobManagerOptions{options.threads, options.max_queued_jobs, options.max_attempts}, *meshes, *store->journal,
-        cache);
+        JobManagerOptions{options.threads, options.max_queued_jobs, options.max_attempts,
+                          std::chrono::seconds(options.job_time_limit_seconds)},
+        *meshes, *store->journal, cache);
     store->meshes = std::move(meshes);
     return store;
   }
@@ -47,7 +48,8 @@ std::unique_ptr<Store> open_store(const ServerOptions& options, ShapeCache& cach
   store->job_store = std::make_unique<PgJobStore>(*store->database);
   SharedJobOptions shared{options.threads, options.max_queued_jobs, options.max_attempts,
                           std::chrono::milliseconds(static_cast<int64_t>(options.lease_seconds * 1000)),
-                          options.replica_id.empty() ? default_replica_id() : options.replica_id};
+                          options.replica_id.empty() ? default_replica_id() : options.replica_id,
+                          std::chrono::seconds(options.job_time_limit_seconds)};
   store->jobs = std::make_unique<SharedJobManager>(shared, *store->job_store, *store->meshes, cache);
   return store;
 }

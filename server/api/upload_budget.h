@@ -1,16 +1,23 @@
-// The bytes all uploads in progress may announce together. An upload holds its declared
-// size from its header until it is stored or fails, which covers the server's memory peak
-// (parsing and checking the whole mesh at the end), so concurrent uploads cannot exhaust it.
+// The memory all uploads in progress may take together. An upload holds, from its header
+// until it is stored or fails, the memory its declared size can make the server take: its
+// bytes, held twice while checked, and the reading and cleaning peak (mesh_io.h). So
+// concurrent uploads, hostile or not, cannot exhaust the server's memory.
 #pragma once
 
 #include <cstdint>
 #include <mutex>
 
+#include "isocorr/mesh/mesh_io.h"
+
 namespace isocorr::server {
 
 class UploadBudget {
  public:
-  explicit UploadBudget(int64_t max_bytes) : max_bytes_(max_bytes) {}
+  // Memory per byte of an upload's declared size.
+  static constexpr int64_t kMemoryPerFileByte = kReadingPeakPerFileByte + 2;
+  static int64_t memory_for(int64_t file_bytes) { return kMemoryPerFileByte * file_bytes; }
+
+  explicit UploadBudget(int64_t max_memory_bytes) : max_bytes_(max_memory_bytes) {}
 
   // Gives its bytes back when destroyed.
   class Reservation {
@@ -25,9 +32,9 @@ class UploadBudget {
     int64_t bytes_;
   };
 
-  // Throws ServiceError(kResourceExhausted) when `bytes` do not fit beside the uploads
-  // in progress.
-  [[nodiscard]] Reservation reserve(int64_t bytes);
+  // Holds memory_for(file_bytes). Throws ServiceError(kResourceExhausted) when that does not
+  // fit beside the uploads in progress.
+  [[nodiscard]] Reservation reserve(int64_t file_bytes);
 
  private:
   void release(int64_t bytes);

@@ -11,8 +11,8 @@ std::shared_ptr<const PreprocessedShape> CachedShapeProvider::shape(ShapeRole ro
                                                                     const JobControl& control) {
   const std::string& digest = role == ShapeRole::kSource ? job_.source_digest : job_.target_digest;
   if (!meshes_.describe(digest)) throw InputError("mesh meshes/" + digest + " was deleted before the job ran");
-  JobControl build_control;  // cancellation only: progress belongs to the job that asked
-  build_control.cancel_requested = control.cancel_requested;
+  // Progress belongs to the job that asked, not to the others waiting for the same build.
+  const JobControl build_control = control.cancellation_only();
   const std::string key = digest + "|" + options.key();
   for (;;) {
     try {
@@ -24,7 +24,8 @@ std::shared_ptr<const PreprocessedShape> CachedShapeProvider::shape(ShapeRole ro
         return PreprocessedShape::build(loaded.mesh, options, build_control);
       });
     } catch (const Cancelled&) {
-      // The build we waited on belonged to a job that was cancelled; ours was not, so build.
+      // The build we waited on belonged to a job that was cancelled or ran out of time; if
+      // ours was not, build.
       control.check_cancelled();
     }
   }
@@ -33,6 +34,10 @@ std::shared_ptr<const PreprocessedShape> CachedShapeProvider::shape(ShapeRole ro
 MatchResult execute_match_job(const JobRecord& job, MeshRepository& meshes, ShapeCache& cache, const JobControl& control) {
   CachedShapeProvider shapes(job, meshes, cache);
   return run_match(shapes, job.settings, control);
+}
+
+JobControl::Clock::time_point run_deadline(std::chrono::seconds limit) {
+  return limit.count() > 0 ? JobControl::Clock::now() + limit : JobControl::Clock::time_point::max();
 }
 
 ErrorCode error_code_for(ServiceError::Kind kind) {
@@ -61,6 +66,11 @@ JobRecord run_to_conclusion(const JobRecord& job, MeshRepository& meshes, ShapeC
     final_record.progress = {"done", 0, 0, 1.0};
     for (const auto& warning : result.warnings) spdlog::warn("[{}] {}", job_tag(job), warning);
     spdlog::info("[{}] succeeded: D_iso {:.4f}", job_tag(job), final_record.summary.diso);
+  } catch (const DeadlineExceeded&) {
+    final_record.state = JobState::kFailed;
+    final_record.error_code = ErrorCode::kDeadlineExceeded;
+    final_record.error_message = "the job ran past the server's time limit for a job (isocorr-server --job-time-limit)";
+    spdlog::warn("[{}] failed: {}", job_tag(job), final_record.error_message);
   } catch (const Cancelled&) {
     throw;
   } catch (const InputError& e) {

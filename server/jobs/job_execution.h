@@ -32,12 +32,16 @@ class CachedShapeProvider : public ShapeProvider {
 // anything else for internal failures.
 MatchResult execute_match_job(const JobRecord& job, MeshRepository& meshes, ShapeCache& cache, const JobControl& control);
 
+// When a run that starts now must end, for a time limit of `limit` (0: never).
+JobControl::Clock::time_point run_deadline(std::chrono::seconds limit);
+
 // The job's error code for a store's ServiceError.
 ErrorCode error_code_for(ServiceError::Kind kind);
 
 // Runs `job` and returns its final record: SUCCEEDED with the summary once `store_result`
-// has stored the output, or FAILED with the error code and reason (end time not yet set).
-// Cancelled propagates: the caller knows whether a cancel or a shutdown asked for it.
+// has stored the output, or FAILED with the error code and reason (end time not yet set;
+// DEADLINE_EXCEEDED past control's deadline). Cancelled propagates: the caller knows whether
+// a cancel or a shutdown asked for it.
 JobRecord run_to_conclusion(const JobRecord& job, MeshRepository& meshes, ShapeCache& cache, const JobControl& control,
                             const std::function<void(const MatchOutput&)>& store_result);
 

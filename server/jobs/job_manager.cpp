@@ -235,6 +235,7 @@ void JobManager::run(Slot& slot) {
   spdlog::info("[{}] running (attempt {})", job_tag(job), job.attempts);
   JobControl control;
   control.cancel_requested = &slot.cancel_requested;
+  control.deadline = run_deadline(options_.time_limit);
   control.on_progress = [&](const Progress& p) {
     std::lock_guard lock(mutex_);
     slot.record.progress = {p.stage, p.level, p.levels, p.fraction};

@@ -39,6 +39,7 @@ struct JobManagerOptions {
   int workers = 1;            // jobs running at once
   int max_queued_jobs = 64;   // CreateMatchJob beyond this is RESOURCE_EXHAUSTED
   int max_attempts = 2;       // starts before an interrupted job is given up
+  std::chrono::seconds time_limit{0};  // a run past it fails with DEADLINE_EXCEEDED; 0 = none
 };
 
 class JobManager final : public JobCoordinator {

@@ -148,6 +148,7 @@ void SharedJobManager::run(const JobRecord& job) {
   spdlog::info("[{}] running on replica {} (attempt {})", job_tag(job), options_.replica, job.attempts);
   JobControl control;
   control.cancel_requested = &running->cancel_requested;
+  control.deadline = run_deadline(options_.time_limit);
   control.on_progress = [&](const Progress& p) {
     std::lock_guard lock(mutex_);
     running->progress = {p.stage, p.level, p.levels, p.fraction};

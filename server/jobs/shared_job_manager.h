@@ -29,6 +29,7 @@ struct SharedJobOptions {
   int max_attempts = 2;
   std::chrono::milliseconds lease{30000};
   std::string replica;                  // claimed_by of this replica's jobs; unique per process
+  std::chrono::seconds time_limit{0};   // a run past it fails with DEADLINE_EXCEEDED; 0 = none
 };
 
 class SharedJobManager final : public JobCoordinator {

@@ -17,7 +17,7 @@ bool is_final(JobState state);
 
 // google.rpc.Code values used for job errors (stable numbers, shared with gRPC).
 enum class ErrorCode : int {
-  kCancelled = 1, kInvalidArgument = 3, kNotFound = 5, kResourceExhausted = 8, kAborted = 10, kInternal = 13,
+  kCancelled = 1, kInvalidArgument = 3, kDeadlineExceeded = 4, kNotFound = 5, kResourceExhausted = 8, kAborted = 10, kInternal = 13,
   kDataLoss = 15
 };
 

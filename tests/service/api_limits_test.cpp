@@ -19,6 +19,7 @@
 
 #include "api/paging.h"
 #include "api/request_limits.h"
+#include "api/upload_budget.h"
 #include "client_json.h"
 #include "google/rpc/error_details.pb.h"
 #include "google/rpc/status.pb.h"
@@ -407,13 +408,14 @@ TEST_F(ApiLimits, UploadSizeMustBeTheBytesSent) {
   EXPECT_TRUE(api.upload(digest, "creature.ply", size, bytes).ok());
 }
 
-// Uploads in progress hold their declared sizes; past --max-upload-bytes-in-flight a new
-// one is refused with RESOURCE_EXHAUSTED until they are done.
+// Uploads in progress hold the memory their declared sizes can take; past --upload-memory a
+// new one is refused with RESOURCE_EXHAUSTED until they are done.
 TEST_F(ApiLimits, UploadsInProgressShareABudget) {
   const std::string held = file_bytes(path("creature.ply")), other = file_bytes(path("creature_moved.ply"));
-  const size_t budget = held.size() + other.size() - 1;
+  const int64_t per_byte = server::UploadBudget::kMemoryPerFileByte;
+  const int64_t budget = per_byte * static_cast<int64_t>(held.size() + other.size()) - 1;
   ServerProcess server(data_dir(), {"--max-mesh-bytes", std::to_string(std::max(held.size(), other.size())),
-                                    "--max-upload-bytes-in-flight", std::to_string(budget)});
+                                    "--upload-memory", std::to_string(budget)});
   RawApi api(server.address());
   auto context = RawApi::context();
   v1::UploadMeshResponse response;
@@ -428,7 +430,7 @@ TEST_F(ApiLimits, UploadsInProgressShareABudget) {
   const CommandRun refused = server.client("upload " + path("creature_moved.ply").string() + " --json");
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_EQ(error_code(refused), "RESOURCE_EXHAUSTED");
-  EXPECT_NE(refused.err.find("--max-upload-bytes-in-flight"), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("--upload-memory"), std::string::npos) << refused.err;
 
   request.set_chunk(held);
   ASSERT_TRUE(holder->Write(request));
@@ -441,7 +443,7 @@ TEST_F(ApiLimits, UploadsInProgressShareABudget) {
   // A budget below the largest mesh would refuse every upload of that size: not started.
   const CommandRun misconfigured =
       run_command(std::string(ISOCORR_SERVER_PATH) + " --listen 127.0.0.1:0 --data-dir " +
-                  (data_dir() / "never").string() + " --max-mesh-bytes 1000 --max-upload-bytes-in-flight 999");
+                  (data_dir() / "never").string() + " --max-mesh-bytes 1000 --upload-memory 17999");
   EXPECT_EQ(misconfigured.exit_code, 1);
 }
 
@@ -461,6 +463,71 @@ TEST_F(ApiLimits, PortFileMayBeABareFileNameAndOnlyThatPortListens) {
   EXPECT_EQ(listening_ports(server), std::set<int>{port});
   kill(server, SIGTERM);
   EXPECT_EQ(wait_for_exit(server), 0) << file_bytes(dir / "server.log");
+}
+
+// `mesh` with its coordinates scaled so that the largest is `largest`, as an OFF file.
+void write_scaled_off(const TriangleMesh& mesh, double largest, const fs::path& file) {
+  double now = 0;
+  for (const Vec3& p : mesh.vertices) now = std::max(now, p.cwiseAbs().maxCoeff());
+  std::ofstream out(file);
+  out.precision(17);
+  out << "OFF\n" << mesh.num_vertices() << ' ' << mesh.num_faces() << " 0\n";
+  for (const Vec3& p : mesh.vertices) out << p.x() / now * largest << ' ' << p.y() / now * largest << ' ' << p.z() / now * largest << '\n';
+  for (const Face& f : mesh.faces) out << "3 " << f[0] << ' ' << f[1] << ' ' << f[2] << '\n';
+}
+
+// The example pair scaled to coordinates of +-1e308 once sent its job's eigensolver into an
+// endless loop that neither CancelJob nor SIGTERM stopped, and at 1e-160 it was refused as
+// having no faces left: both now give the map of the unscaled pair. And a server told to stop
+// while a job runs ends within its grace period (a second SIGTERM at once).
+TEST_F(ApiLimits, MeshesAtTheLimitsOfDoubleMatchLikeTheirUnscaledCopiesAndNeverHoldTheServer) {
+  ServerProcess server(data_dir(), {"--threads", "1", "--shutdown-grace", "2"});
+  const fs::path reference = data_dir() / "reference.map";
+  const CommandRun unscaled = server.client("match " + path("creature.ply").string() + " " +
+                                            path("creature_moved.ply").string() + " -o " + reference.string());
+  ASSERT_EQ(unscaled.exit_code, 0) << unscaled.err;
+  const TriangleMesh creature = limbed_blob(3);
+  const TriangleMesh moved = rotated_scaled_renumbered(creature, 1.3, 7).mesh;
+  for (const double largest : {1e308, 1e-160}) {
+    const std::string tag = largest > 1 ? "huge" : "tiny";
+    const fs::path source = data_dir() / (tag + "_source.off"), target = data_dir() / (tag + "_target.off");
+    write_scaled_off(creature, largest, source);
+    write_scaled_off(moved, largest, target);
+    const fs::path map = data_dir() / (tag + ".map");
+    const CommandRun scaled =
+        server.client("match " + source.string() + " " + target.string() + " -o " + map.string() + " --timeout 300");
+    ASSERT_EQ(scaled.exit_code, 0) << tag << ": " << scaled.err;
+    EXPECT_EQ(file_bytes(map), file_bytes(reference)) << tag;
+  }
+
+  start_long_job(server);
+  server.send_signal(SIGTERM);
+  EXPECT_NE(server.wait_for_exit(30), -1) << "still running 30 s after SIGTERM with a 2 s grace period";
+}
+
+// A job running past the server's time limit fails with DEADLINE_EXCEEDED and frees its worker.
+TEST_F(ApiLimits, AJobPastTheTimeLimitFailsWithDeadlineExceeded) {
+  ServerProcess server(data_dir(), {"--threads", "1", "--job-time-limit", "1"});
+  const std::string job = start_long_job(server);
+  json status;
+  for (int i = 0; i < 1200; ++i) {
+    status = last_json(server.client("status " + job + " --json"));
+    if (status.value("done", false)) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  EXPECT_EQ(status.value("state", ""), "FAILED") << status.dump();
+  EXPECT_EQ(status["error"].value("code", 0), 4) << status.dump();  // DEADLINE_EXCEEDED
+  EXPECT_NE(status["error"].value("message", "").find("--job-time-limit"), std::string::npos) << status.dump();
+}
+
+// A second SIGTERM ends a stopping server at once, whatever its workers are doing.
+TEST_F(ApiLimits, ASecondSigtermEndsAStoppingServerAtOnce) {
+  ServerProcess server(data_dir(), {"--threads", "1", "--shutdown-grace", "60"});
+  start_long_job(server);
+  server.send_signal(SIGTERM);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  server.send_signal(SIGTERM);
+  EXPECT_NE(server.wait_for_exit(20), -1) << "still running 20 s after a second SIGTERM";
 }
 
 // A server stopping (SIGTERM) under a watch and a match: their job was not cancelled, so

@@ -51,6 +51,8 @@ class ServerProcess {
   void kill_hard();   // SIGKILL, as a crash would
   void send_signal(int signal_number) const;  // and does not wait for the server to exit
   int terminate();    // SIGTERM; returns the exit status
+  // The exit status once the server has exited, or -1 if it is still running after `seconds`.
+  int wait_for_exit(double seconds);
 
  private:
   std::filesystem::path data_dir_, log_;

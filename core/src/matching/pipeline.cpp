@@ -60,8 +60,7 @@ MatchResult run_match(ShapeProvider& shapes, const MatchSettings& settings, cons
   const auto target = target_shape.get();
   clock.finish("preprocess-target");
 
-  JobControl match_control;
-  match_control.cancel_requested = control.cancel_requested;
+  JobControl match_control = control.cancellation_only();
   match_control.on_progress = [&](const Progress& p) {
     Progress scaled = p;
     scaled.fraction = 2 * kPreprocessShare + (1 - 2 * kPreprocessShare) * p.fraction;

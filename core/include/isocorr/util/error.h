@@ -24,7 +24,14 @@ class NumericalError : public InputError {
 // Raised inside the engine when its cancellation flag is set.
 class Cancelled : public std::runtime_error {
  public:
-  Cancelled() : std::runtime_error("cancelled") {}
+  explicit Cancelled(const std::string& what = "cancelled") : std::runtime_error(what) {}
+};
+
+// Raised inside the engine when its deadline has passed: a cancellation nobody asked for, so
+// the caller reports it as a failure of its own kind.
+class DeadlineExceeded : public Cancelled {
+ public:
+  DeadlineExceeded() : Cancelled("the time limit ran out") {}
 };
 
 }  // namespace isocorr

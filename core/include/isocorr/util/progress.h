@@ -2,6 +2,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <functional>
 #include <string>
 
@@ -16,17 +17,28 @@ struct Progress {
   double fraction = 0; // overall completion in [0, 1]
 };
 
-// Passed down by the caller (CLI, service). Both members are optional.
+// Passed down by the caller (CLI, service). Every member is optional.
 struct JobControl {
+  using Clock = std::chrono::steady_clock;
+
   std::function<void(const Progress&)> on_progress;  // may run on several threads at once
   const std::atomic<bool>* cancel_requested = nullptr;
+  Clock::time_point deadline = Clock::time_point::max();  // the work ends with DeadlineExceeded past it
 
   void report(const Progress& progress) const {
     if (on_progress) on_progress(progress);
   }
-  // Called at safe points inside loops; unwinds the job with Cancelled.
+  // Called at safe points inside loops; unwinds the job with Cancelled, or DeadlineExceeded.
   void check_cancelled() const {
     if (cancel_requested && cancel_requested->load(std::memory_order_relaxed)) throw Cancelled();
+    if (deadline != Clock::time_point::max() && Clock::now() > deadline) throw DeadlineExceeded();
+  }
+  // The same cancellation and deadline, without progress.
+  JobControl cancellation_only() const {
+    JobControl control;
+    control.cancel_requested = cancel_requested;
+    control.deadline = deadline;
+    return control;
   }
 };
 
