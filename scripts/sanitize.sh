@@ -21,8 +21,7 @@
 # (byte_buffer.h, callback handlers' std::function, grpc_core::Thread) that Debian's
 # uninstrumented gRPC makes invisible to it, seen in 1 CI run of 2; suppressing them would
 # need patterns broad enough to hide our own handlers' races. The scheduler is raced in
-# process instead (JobManager tests), so TSan covers core and the job scheduler as issue 10
-# asks.
+# process instead (JobManager tests), so TSan covers core and the job scheduler.
 # Debug information is line tables only (-g1): reports keep file and line, and the builds,
 # CI's longest steps after the sanitized tests, take less time. Both are built by clang: it
 # compiles about twice as fast under the sanitizers as gcc (the files the fuzz build shares

@@ -82,7 +82,7 @@ TEST(PartMapEvidence, APartsTrueMapAgreesWithTheWholesCurvature) {
   EXPECT_LT(part_measure, 0.25 * whole_measure);  // 0.19 at the part's own lengths
 }
 
-// Parts keeping this share of the creature's area are matched reliably today (issue 11).
+// Parts keeping this share of the creature's area are matched reliably.
 constexpr double kKeptArea = 0.9;
 
 // The creature (limbed_blob of `Subdivisions`) and its rotated, scaled, renumbered copy.

@@ -1,6 +1,6 @@
 // Cuts partial shapes out of a full mesh, with the exact vertex correspondence back to it:
-// the test data of part matching (issue 11), generated from the benchmark meshes instead
-// of stored, since their licences forbid copies.
+// the test data of part matching, generated from the benchmark meshes instead of stored,
+// since their licences forbid copies.
 #pragma once
 
 #include <string>
