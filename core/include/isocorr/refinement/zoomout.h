@@ -2,7 +2,7 @@
 // functional map is grown from k_start to k_end basis functions on a few thousand evenly
 // spread vertices per mesh, and the dense pointwise map is recovered once at the end.
 //
-// Notation (ALGORITHM.md "Refinement after C2F"): Phi_S, Phi_T are the eigenbases (rows
+// Notation (docs/algorithm.md): Phi_S, Phi_T are the eigenbases (rows
 // are vertices). A map T: source -> target pulls target functions back to the source, so
 // Phi_S C ~ Phi_T[T(.)] with C = argmin ||Phi_S[samples] C - Phi_T[T(samples)]|| (k x k);
 // a source vertex v then maps to the target vertex whose row of Phi_T is nearest to row v
@@ -25,28 +25,16 @@ struct ZoomOutOptions {
   int k_end = 100;   // last basis size (at most the basis the shapes hold)
   int k_step = 5;    // growth per iteration (the paper: 1-5)
   int dense_iterations = 1;  // refits of C on every vertex after the sampled iterations
-  // zoomout_polish continues the chosen, finished map (right at k_end functions) up to
-  // polish_k_end: the higher frequencies sharpen it. Grown on every vertex in steps of 25,
-  // every pair of each set, 100 -> 200 functions: D_grd SCAPE 0.0139 -> 0.0128, FAUST 5k
-  // 0.0121 -> 0.0116, TOSCA 5k 0.0166 -> 0.0153, TOSCA hi-res 0.0148 -> 0.0127 (michael
-  // 0.0164 -> 0.0094). Finer steps lost less (TOSCA 5k 0.0146 in steps of 5) but cost
-  // O(V k^2) per step on every vertex (michael 48 s per pair in steps of 25, 53 s in steps
-  // of 10, with an older eigensolver). On the samples, ZoomOut's own way, steps of 5 cost
-  // what steps of 25 on every vertex cost at 52K vertices and lose less: SCAPE's first 10
-  // pairs 0.0091 -> 0.0086, TOSCA 5k 0.0154 -> 0.0146, michael 0.0094 -> 0.0077.
+  // zoomout_polish continues the chosen, finished map (right at k_end functions) on the
+  // samples up to polish_k_end functions, in steps of polish_k_step: the higher frequencies
+  // sharpen it. Figures, and growth on every vertex instead: docs/decisions.md, "Spectral
+  // polish of the chosen map".
   int polish_k_end = 200;
   int polish_k_step = 5;
-  // Weight of the Laplacian commutativity term in every fit (functional_map_fit.h): the
-  // functional map of an isometry commutes with the Laplacians, and from the ground truth
-  // the coarse stages without it pulled maps away from it (README "Where the remaining
-  // error comes from"). At 10 on every pair of each set (isocorr-bench --as-set-only):
-  // D_grd SCAPE 0.0125 -> 0.0118, faust_reg6890 0.0080 -> 0.0070, TOSCA hi-res 0.0123 ->
-  // 0.0101 (michael 0.0077 -> 0.0030), TOSCA 5k 0.0146 -> 0.0144, and TOSCA's last
-  // flipped pair (cat2 -> cat3, both sets) right; no pair newly flipped. 30 gave TOSCA 5k
-  // the same, 100 0.0158. Before the choice by finished candidates' dense evidence, 10
-  // mirrored 5 of the first 18 FAUST 5k pairs; 0 turns it off. Cost: +0.15-0.25 s per
-  // 5K pair; michael0 -> michael1 17.3 -> 22.4 s at first, 18.8-20.5 s once the outlier
-  // repair's search was made cheaper (README).
+  // Weight of the Laplacian commutativity term in every fit (functional_map_fit.h; 0 = off):
+  // the functional map of an isometry commutes with the Laplacians, and without the term
+  // the coarse stages pull even a map started from the ground truth away from it. Figures
+  // and cost: docs/decisions.md, "ZoomOut refinement".
   double commutativity = 10;
   // The curvature term of the polish (zoomout_polish), after the basis growth: weight of
   // the extrinsic term (0 = off) and its iterations on the samples. See that function for
@@ -56,17 +44,9 @@ struct ZoomOutOptions {
   // The curvature term in the polish's basis growth too (0 = growth on the spectral
   // embedding alone): each sample's image is the target sample of least spectral plus
   // curvature cost among this many spectrally nearest (32 of 2000 samples: a patch of
-  // about 1.6% of the area, some 10 cm across on a person). Descent alone in the last
-  // refits cannot undo a limb turned about its own axis, which ZoomOut's low frequencies
-  // leave as they please (SCAPE 001 -> 007: a shin and foot turned by 170-180 degrees, an
-  // upper arm by 90; 003 -> 014: a thigh by 30; started from the truth, 15 SCAPE pairs end
-  // as far from it as from the tracked maps, 0.0085 against 0.0081). Searched
-  // over every target sample, the term sent 003 -> 014's raised forearm to the other arm
-  // (weight 1). Every pair of each set: D_grd SCAPE 0.0093 -> 0.0078 (91 pairs better, 13
-  // worse), FAUST 5k 0.0100 -> 0.0093, faust_reg6890 0.0055 -> 0.0050, TOSCA 5k 0.0139 ->
-  // 0.0131, TOSCA hi-res 0.0089 -> 0.0087 (but michael0 -> michael1 0.0020 -> 0.0039),
-  // flip-free counts unchanged; 16 or 8 candidates on 15 SCAPE pairs: 0.0068, 0.0071
-  // against 0.0067.
+  // about 1.6% of the area). Room to turn back a limb turned about its own axis, which
+  // the last refits' descent cannot undo, but not to leave it for another limb. Figures:
+  // docs/decisions.md, "Curvature polish".
   int curvature_candidates = 32;
   // Source functions per target function: 1 between complete shapes; a part's share of the
   // whole's area for a part (partial_refinement.h): a part's i-th eigenvalue is about the
