@@ -6,6 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "isocorr/util/sha256.h"
+
 namespace isocorr::cli {
 
 std::string mesh_file_label(const std::string& role, const std::string& path) {
@@ -29,8 +31,9 @@ std::string read_mesh_file(const std::string& role, const std::string& path) {
   return content;
 }
 
-LoadedMesh load_mesh_file(const std::string& role, const std::string& path) {
+LoadedMesh load_mesh_file(const std::string& role, const std::string& path, std::string* sha256) {
   const std::string bytes = read_mesh_file(role, path);
+  if (sha256) *sha256 = sha256_hex(bytes);
   try {
     return parse_mesh(bytes, path);
   } catch (const InputError& e) {

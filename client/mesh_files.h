@@ -19,8 +19,9 @@ InputError mesh_file_error(const std::string& role, const std::string& path, con
 // The file's bytes. Throws mesh_file_error when it cannot be read or is empty.
 std::string read_mesh_file(const std::string& role, const std::string& path);
 
-// Reads and parses the file; every InputError names the file and its role.
-LoadedMesh load_mesh_file(const std::string& role, const std::string& path);
+// Reads and parses the file; every InputError names the file and its role. With `sha256`,
+// also sets it to the hex SHA-256 of the file's bytes.
+LoadedMesh load_mesh_file(const std::string& role, const std::string& path, std::string* sha256 = nullptr);
 
 // Throws mesh_file_error unless `loaded` can be matched with `cleaning` (what a match checks
 // first, without saying which mesh failed).

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "isocorr/mesh/mesh_io.h"
+#include "isocorr/output/match_report.h"
 #include "isocorr/util/error.h"
 
 namespace isocorr::server {
@@ -33,7 +34,15 @@ std::shared_ptr<const PreprocessedShape> CachedShapeProvider::shape(ShapeRole ro
 
 MatchResult execute_match_job(const JobRecord& job, MeshRepository& meshes, ShapeCache& cache, const JobControl& control) {
   CachedShapeProvider shapes(job, meshes, cache);
-  return run_match(shapes, job.settings, control);
+  MatchResult result = run_match(shapes, job.settings, control);
+  // The report names the uploaded files it was made from (meshes/{sha256} on the server).
+  auto input = [&](const std::string& digest) {
+    const auto info = meshes.describe(digest);
+    return ReportInput{info ? info->filename : "meshes/" + digest, digest};
+  };
+  result.output.report_json =
+      report_with_inputs(result.output.report_json, input(job.source_digest), input(job.target_digest));
+  return result;
 }
 
 JobControl::Clock::time_point run_deadline(std::chrono::seconds limit) {

@@ -5,12 +5,14 @@
 #include <nlohmann/json.hpp>
 
 #include "isocorr/settings/settings_json.h"
+#include "isocorr/version.h"
 
 namespace isocorr {
 
 std::string match_report_json(const MatchResult& result, const MatchSettings& settings) {
   using nlohmann::json;
   json report;
+  report["version"] = kVersion;
   report["settings"] = settings_to_json(settings);
   json timings = json::object();
   double total = 0;
@@ -89,6 +91,13 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
   }
   report["warnings"] = result.warnings;
   report["notes"] = result.notes;
+  return report.dump(2);
+}
+
+std::string report_with_inputs(const std::string& report_json, const ReportInput& source, const ReportInput& target) {
+  nlohmann::json report = nlohmann::json::parse(report_json);
+  report["inputs"] = {{"source", {{"file", source.file}, {"sha256", source.sha256}}},
+                      {"target", {{"file", target.file}, {"sha256", target.sha256}}}};
   return report.dump(2);
 }
 
