@@ -1,4 +1,7 @@
-// `isocorr eval MAP --dataset DIR --source S --target T`: scores a map against ground truth.
+// `isocorr eval MAP --source S --target T [--dataset DIR] [--gt-kind K]`: scores a map against
+// ground truth.
+#include <filesystem>
+
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
@@ -34,10 +37,17 @@ void write_point_errors(const std::string& path, const GroundTruthScore& score) 
 
 int run_eval(const EvalArguments& args) {
   try {
-    BenchmarkPair pair{args.dataset + "/" + args.source, args.dataset + "/" + args.target, args.gt_kind, ""};
+    // Mesh paths are taken as given when absolute or when there is no dataset folder.
+    const std::filesystem::path dataset = args.dataset.empty() ? "." : args.dataset;
+    BenchmarkPair pair{(dataset / args.source).lexically_normal().string(),
+                       (dataset / args.target).lexically_normal().string(), args.gt_kind, ""};
     if (pair.gt_kind.empty()) {  // look the pair up in the dataset's list
-      for (const auto& listed : read_pairs_tsv(args.dataset))
+      if (args.dataset.empty()) throw InputError("give --gt-kind, or --dataset with a pairs.tsv that lists the pair");
+      for (auto listed : read_pairs_tsv(args.dataset)) {
+        listed.source_path = std::filesystem::path(listed.source_path).lexically_normal().string();
+        listed.target_path = std::filesystem::path(listed.target_path).lexically_normal().string();
         if (listed.source_path == pair.source_path && listed.target_path == pair.target_path) pair = listed;
+      }
       if (pair.gt_kind.empty())
         throw InputError("pair not in " + args.dataset + "/pairs.tsv; give --gt-kind");
     }
@@ -46,7 +56,7 @@ int run_eval(const EvalArguments& args) {
     const LoadedMesh target = load_mesh_file("target", pair.target_path);
     check_map_fits(forward, source.mesh.num_vertices(), target.mesh.num_vertices());
     const GroundTruth truth =
-        load_ground_truth(args.dataset, pair, source.mesh.num_vertices(), target.mesh.num_vertices());
+        load_ground_truth(dataset.string(), pair, source.mesh.num_vertices(), target.mesh.num_vertices());
     const MeshTopology topology(target.mesh);
     const FastMarching geodesics(target.mesh, topology);
     const double diameter = estimate_geodesic_diameter(geodesics);
@@ -89,11 +99,15 @@ void register_eval_command(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<EvalArguments>();
   CLI::App* cmd = app.add_subcommand("eval", "score a map against a benchmark dataset's ground truth");
   cmd->add_option("map", args->map, "map file written by `isocorr match`")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--dataset", args->dataset, "dataset folder holding pairs.tsv (e.g. ../shared/data/tosca_hires)")
-      ->required()->check(CLI::ExistingDirectory);
-  cmd->add_option("--source", args->source, "source mesh path relative to the dataset folder")->required();
-  cmd->add_option("--target", args->target, "target mesh path relative to the dataset folder")->required();
-  cmd->add_option("--gt-kind", args->gt_kind, "ground-truth kind (default: looked up in pairs.tsv)");
+  cmd->add_option("--source", args->source, "source mesh (relative paths: to the dataset folder if given)")->required();
+  cmd->add_option("--target", args->target, "target mesh (relative paths: to the dataset folder if given)")->required();
+  cmd->add_option("--dataset", args->dataset,
+                  "dataset folder: relative mesh and ground-truth paths start there, and its pairs.tsv gives the "
+                  "ground-truth kind when --gt-kind is not given (e.g. ../shared/data/tosca_hires)")
+      ->check(CLI::ExistingDirectory);
+  cmd->add_option("--gt-kind", args->gt_kind,
+                  "ground-truth kind: identity, vts, prefix6890, ref_to_null, sparse_vts or index_map:FILE "
+                  "(default: looked up in the dataset's pairs.tsv)");
   cmd->add_option("--max-points", args->max_points, "ground-truth points scored (0 = all)")->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON");
   cmd->add_option("--errors-out", args->errors_out,

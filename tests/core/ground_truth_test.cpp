@@ -78,11 +78,17 @@ TEST_F(GroundTruthFiles, PairsTsvRejectsMissingHeaderAndShortLines) {
 
 TEST_F(GroundTruthFiles, IdentityWithToscaSymmetry) {
   write("gt/symmetry/cat.sym", "2\n1\n3\n5\n4\n");  // 1-based
-  const GroundTruth gt = load_ground_truth(ds(), pair("off/cat0.off", "off/cat1.off", "identity"), 6, 5);
+  const GroundTruth gt = load_ground_truth(ds(), pair("off/cat0.off", "off/cat1.off", "identity"), 5, 5);
   EXPECT_EQ(gt.source, (std::vector<int>{0, 1, 2, 3, 4}));
   EXPECT_EQ(gt.target, gt.source);
   EXPECT_EQ(gt.mirrored_target, (std::vector<int>{1, 0, 2, 4, 3}));
   EXPECT_NE(gt.description.find("cat.sym"), std::string::npos);
+}
+
+// Vertex i to vertex i means nothing between meshes of different vertex counts.
+TEST_F(GroundTruthFiles, IdentityNeedsEqualVertexCounts) {
+  expect_input_error([&] { load_ground_truth(ds(), pair("off/cat0.off", "off/cat1.off", "identity"), 6, 5); },
+                     {"identity", "6", "5"});
 }
 
 TEST_F(GroundTruthFiles, IdentityWithKidsFloatSymmetryAndWithout) {

@@ -152,8 +152,11 @@ void mirror_through(GroundTruth& gt, const std::vector<int>& mirror) {
 }
 
 GroundTruth identity_gt(const fs::path& dataset, const BenchmarkPair& pair, int ns, int nt) {
+  if (ns != nt)
+    throw InputError("ground truth 'identity' pairs vertex i with vertex i, but the source has " + std::to_string(ns) +
+                     " vertices and the target " + std::to_string(nt));
   GroundTruth gt;
-  const int n = std::min(ns, nt);
+  const int n = ns;
   for (int i = 0; i < n; ++i) {
     gt.source.push_back(i);
     gt.target.push_back(i);
