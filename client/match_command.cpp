@@ -3,6 +3,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 
 #include <CLI/CLI.hpp>
@@ -12,6 +13,7 @@
 #include "isocorr/matching/pipeline.h"
 #include "isocorr/output/colour_transfer.h"
 #include "isocorr/output/map_files.h"
+#include "isocorr/output/match_report.h"
 #include "mesh_files.h"
 #include "progress_printer.h"
 #include "settings_flags.h"
@@ -26,11 +28,29 @@ void on_interrupt(int) {
   if (g_interrupted.exchange(true)) std::_Exit(130);
 }
 
+// Every file the match will write goes into an existing directory: said before the match
+// runs, not after it.
+void check_output_directories(const MatchJobFiles& args) {
+  const std::pair<const char*, const std::string*> outputs[] = {
+      {"map", &args.output}, {"reverse map", &args.reverse_output}, {"report", &args.report},
+      {"coloured meshes", &args.colour_ply}};
+  for (const auto& [what, file] : outputs) {
+    if (file->empty()) continue;
+    std::filesystem::path directory = std::filesystem::path(*file).parent_path();
+    if (directory.empty()) directory = ".";
+    std::error_code error;
+    if (!std::filesystem::is_directory(directory, error))
+      throw InputError(std::string("cannot write the ") + what + " to '" + *file + "': the directory '" +
+                       directory.string() + "' does not exist");
+  }
+}
+
 int match_locally(const MatchJobFiles& args) {
   const auto start = std::chrono::steady_clock::now();
   try {
-    const LoadedMesh source = load_mesh_file("source", args.source);
-    const LoadedMesh target = load_mesh_file("target", args.target);
+    ReportInput source_input{args.source, ""}, target_input{args.target, ""};
+    const LoadedMesh source = load_mesh_file("source", args.source, &source_input.sha256);
+    const LoadedMesh target = load_mesh_file("target", args.target, &target_input.sha256);
     // The match would refuse an unusable mesh without saying which of the two it was.
     check_matchable_file("source", args.source, source, args.settings.preprocess.cleaning);
     check_matchable_file("target", args.target, target, args.settings.preprocess.cleaning);
@@ -55,22 +75,23 @@ int match_locally(const MatchJobFiles& args) {
     if (!args.reverse_output.empty()) write_map(args.reverse_output, out.reverse);
     if (!args.report.empty()) {
       std::ofstream report(args.report);
-      report << out.report_json << '\n';
+      report << report_with_inputs(out.report_json, source_input, target_input) << '\n';
       if (!report) throw InputError("cannot write report '" + args.report + "'");
     }
     if (!args.colour_ply.empty()) write_colour_ply_pair(args.colour_ply, source.mesh, target.mesh, out.reverse);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    spdlog::info("matched {} -> {} vertices in {:.2f} s: D_iso {:.4f}, tracked {} of {} level-0 maps, "
-                 "chose #{} (orientation {:.2f}); map written to {}",
-                 out.forward.size(), out.reverse.size(), seconds, result.diso, result.tracked.size(),
-                 result.level0.size(), result.tracked[result.chosen].level0_rank + 1,
-                 result.tracked[result.chosen].orientation, args.output);
+    // The report's numbers: its "chosen" tracked map and its final orientation.
+    spdlog::info("matched {} -> {} vertices in {:.2f} s: D_iso {:.4f}, orientation {:.2f}, tracked {} of {} level-0 "
+                 "maps, chose tracked map {} (level-0 rank {}); map written to {}",
+                 out.forward.size(), out.reverse.size(), seconds, result.diso, result.dense_orientation,
+                 result.tracked.size(), result.level0.size(), result.chosen, result.tracked[result.chosen].level0_rank,
+                 args.output);
     if (args.settings.method != MatchMethod::kFull)
       spdlog::info("part matching: {:.1f}% of the target's area matched (reverse map -1 elsewhere), part scale {:.3f}",
                    100 * result.target_matched_share, result.part_scale);
     return kExitOk;
   } catch (const InputError& e) {
-    spdlog::error("{}", e.what());
+    spdlog::error("{}", with_flag_names(e.what()));  // the engine names settings as the API does
     return kExitBadInput;
   } catch (const Cancelled&) {
     spdlog::error("interrupted: no map written");
@@ -97,6 +118,13 @@ void register_match_command(CLI::App& app, int& exit_code, RemoteMatchRunner rem
                   "write PREFIXsource.ply and PREFIXtarget.ply, the target coloured through the map");
   add_match_settings_flags(*cmd, args->settings);
   cmd->callback([args, remote, &exit_code] {
+    try {
+      check_output_directories(*args);
+    } catch (const InputError& e) {
+      spdlog::error("{}", e.what());
+      exit_code = kExitBadInput;
+      return;
+    }
     if (remote)
       if (const std::optional<int> code = remote(*args)) {
         exit_code = *code;

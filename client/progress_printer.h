@@ -32,7 +32,11 @@ class ProgressPrinter {
                    static_cast<int>(p.fraction * 100), p.stage.c_str(), p.level, p.levels);
       if (p.stage == "done") std::fprintf(stderr, "\n");
     } else if (p.stage != last_stage_) {
-      log_line_("stage " + p.stage + " (level " + std::to_string(p.level) + "/" + std::to_string(p.levels) + ")");
+      std::string line = p.stage == "done" ? "done" : "stage " + p.stage;
+      // Levels belong to the coarse-to-fine stages only.
+      if (p.levels > 0 && p.stage != "done")
+        line += " (level " + std::to_string(p.level) + "/" + std::to_string(p.levels) + ")";
+      log_line_(line);
     }
     last_stage_ = p.stage;
   }

@@ -1,15 +1,57 @@
 #include "settings_flags.h"
 
+#include <cctype>
+#include <map>
+#include <string_view>
+
 #include <CLI/CLI.hpp>
 
 #include "isocorr/settings/settings_schema.h"
 
 namespace isocorr::cli {
+namespace {
+
+// The settings table's sections, each under its own heading in --help: the first field of
+// each section and the heading.
+const std::map<std::string_view, const char*> kSectionStarts = {
+    {"level0_samples", "Level 0 (coarsest match)"},
+    {"min_tracked", "Tracking and the choice of a tracked map"},
+    {"dense_anchors", "Dense level"},
+    {"method", "Problem (complete or partial shapes)"},
+    {"refine", "Refinement and the choice by dense evidence"},
+    {"level0_radius", "Per-mesh preprocessing"},
+    {"threads", "This process"},
+};
+
+bool is_name_character(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
+
+}  // namespace
+
+std::string with_flag_names(std::string text) {
+  for (const SettingField& field : settings_schema()) {
+    // One-word names ("method") read the same either way and are common words: only names
+    // with an underscore, or written as "settings.name", are taken for settings.
+    const bool compound = field.name.find('_') != std::string_view::npos;
+    for (size_t at = text.find(field.name); at != std::string::npos; at = text.find(field.name, at + 1)) {
+      const size_t end = at + field.name.size();
+      if ((at > 0 && is_name_character(text[at - 1])) || (end < text.size() && is_name_character(text[end]))) continue;
+      const bool qualified = at >= 9 && text.compare(at - 9, 9, "settings.") == 0;
+      if (!compound && !qualified) continue;
+      const size_t from = qualified ? at - 9 : at;
+      text.replace(from, end - from, field.flag());
+      at = from;
+    }
+  }
+  return text;
+}
 
 void add_match_settings_flags(CLI::App& app, MatchSettings& settings) {
   const MatchSettings defaults;
+  std::string group = "Matching settings";
   for (const SettingField& field : settings_schema()) {
-    std::string help(field.help);
+    if (const auto start = kSectionStarts.find(field.name); start != kSectionStarts.end())
+      group = std::string("Matching settings: ") + start->second;
+    std::string help = with_flag_names(std::string(field.help));
     if (field.type == SettingType::kInt || field.type == SettingType::kDouble)
       help += "; range " + field.range.describe();
     app.add_option_function<std::string>(
@@ -18,7 +60,7 @@ void add_match_settings_flags(CLI::App& app, MatchSettings& settings) {
              try {
                field.parse(settings, text);
              } catch (const InputError& e) {
-               throw CLI::ValidationError(field.flag(), e.what());
+               throw CLI::ValidationError(field.flag(), with_flag_names(e.what()));
              }
            },
            help)
@@ -27,13 +69,14 @@ void add_match_settings_flags(CLI::App& app, MatchSettings& settings) {
                     : field.type == SettingType::kInt  ? "INT"
                                                        : "FLOAT")
         ->default_str(field.format(defaults))
-        ->group("Matching settings");
+        ->group(group);
+    if (field.name == "method")
+      app.add_flag_callback(
+             "--partial", [&settings] { settings.method = MatchMethod::kPart; },
+             "the source is a part of the target's shape (short for --method part): the reverse map has -1 "
+             "where the target has no counterpart")
+          ->group(group);
   }
-  app.add_flag_callback(
-         "--partial", [&settings] { settings.method = MatchMethod::kPart; },
-         "the source is a part of the target's shape (short for --method part): the reverse map has -1 "
-         "where the target has no counterpart")
-      ->group("Matching settings");
 }
 
 }  // namespace isocorr::cli

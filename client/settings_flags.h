@@ -2,6 +2,8 @@
 // by `isocorr match`, `isocorr submit` and the benchmark.
 #pragma once
 
+#include <string>
+
 #include "isocorr/settings/match_settings.h"
 
 namespace CLI {
@@ -11,8 +13,12 @@ class App;
 namespace isocorr::cli {
 
 // Registers one flag per row of the settings table (--name-with-dashes), its help with the
-// range and the default. Parsed values land in `settings`; malformed text is a CLI error.
-// `settings` must outlive parsing.
+// range and the default, grouped by the table's sections. Parsed values land in `settings`;
+// malformed text is a CLI error. `settings` must outlive parsing.
 void add_match_settings_flags(CLI::App& app, MatchSettings& settings);
+
+// `text` (a help text or an engine message) with every setting named as its flag:
+// "zoomout_k_end" and "settings.zoomout_k_end" become "--zoomout-k-end".
+std::string with_flag_names(std::string text);
 
 }  // namespace isocorr::cli

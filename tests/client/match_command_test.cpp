@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "isocorr/version.h"
 #include "shell_run.h"
 
 namespace {
@@ -70,12 +71,52 @@ TEST_F(MatchCommand, WritesMapsAndReportThatEvalScores) {
   EXPECT_FALSE(json["tracked"].empty());
   EXPECT_LT(json["final"]["diso"].get<double>(), 0.01);
 
+  // The report says what made it: the version and both inputs with their digests.
+  EXPECT_EQ(json["version"], isocorr::kVersion);
+  EXPECT_EQ(json["inputs"]["source"]["file"], (*dir_ / "meshes/creature.ply").string());
+  EXPECT_EQ(json["inputs"]["target"]["sha256"].get<std::string>().size(), 64u);
+  // The last line gives the report's choice and final orientation.
+  char orientation[16];
+  std::snprintf(orientation, sizeof orientation, "%.2f", json["final"]["orientation"].get<double>());
+  EXPECT_NE(match.output.find("orientation " + std::string(orientation)), std::string::npos) << match.output;
+  EXPECT_NE(match.output.find("chose tracked map " + std::to_string(json["chosen"].get<int>()) + " "), std::string::npos)
+      << match.output;
+
   const ShellRun eval = run_shell(cli_ + " eval " + map.string() + " --dataset " + dir_->string() +
                        " --source meshes/creature.ply --target meshes/creature_moved.ply --json");
   ASSERT_EQ(eval.exit_code, 0) << eval.output;
   const nlohmann::json score = nlohmann::json::parse(eval.output.substr(eval.output.find('{')));
   EXPECT_TRUE(score["flip_free"].get<bool>());
   EXPECT_LT(score["d_grd"].get<double>(), 0.01);
+
+  // Without a dataset folder: absolute mesh paths and a ground-truth kind naming its file.
+  const ShellRun alone = run_shell(cli_ + " eval " + map.string() + " --source " +
+                                   (*dir_ / "meshes/creature.ply").string() + " --target " +
+                                   (*dir_ / "meshes/creature_moved.ply").string() + " --gt-kind index_map:" +
+                                   (*dir_ / "gt/creature_to_moved.txt").string() + " --json");
+  ASSERT_EQ(alone.exit_code, 0) << alone.output;
+  const nlohmann::json same = nlohmann::json::parse(alone.output.substr(alone.output.find('{')));
+  EXPECT_EQ(same["d_grd"], score["d_grd"]);
+}
+
+// A map that could not be written is said before the match runs, naming the directory.
+TEST_F(MatchCommand, OutputIntoAMissingDirectoryIsRefusedBeforeTheMatch) {
+  const ShellRun match = run_shell(cli_ + " match " + (*dir_ / "meshes/creature.ply").string() + " " +
+                                   (*dir_ / "meshes/creature_moved.ply").string() + " -o /nonexistent/dir/x.map");
+  EXPECT_EQ(match.exit_code, 2);
+  EXPECT_NE(match.output.find("'/nonexistent/dir'"), std::string::npos) << match.output;
+  EXPECT_EQ(match.output.find("stage"), std::string::npos) << match.output;  // no match ran
+}
+
+TEST_F(MatchCommand, VersionAndLocalCommandsFirstInHelp) {
+  const ShellRun version = run_shell(cli_ + " --version");
+  EXPECT_EQ(version.exit_code, 0);
+  EXPECT_NE(version.output.find(std::string("isocorr ") + isocorr::kVersion), std::string::npos) << version.output;
+  const ShellRun help = run_shell(cli_ + " --help");
+  EXPECT_EQ(help.exit_code, 0);
+  const size_t match = help.output.find("  match"), upload = help.output.find("  upload");
+  ASSERT_NE(match, std::string::npos) << help.output;
+  if (upload != std::string::npos) EXPECT_LT(match, upload) << help.output;
 }
 
 TEST_F(MatchCommand, CutPartMatchesWithPartialAndItsReverseMapMarksTheRest) {
@@ -184,7 +225,21 @@ TEST_F(MatchCommand, HelpListsTheSettings) {
   EXPECT_EQ(help.exit_code, 0);
   EXPECT_NE(help.output.find("--level0-samples"), std::string::npos);
   EXPECT_NE(help.output.find("--selection"), std::string::npos);
+  // In the table's sections, and naming other settings by their flags.
+  EXPECT_NE(help.output.find("Matching settings: Per-mesh preprocessing"), std::string::npos) << help.output;
+  EXPECT_NE(help.output.find("at most --zoomout-k-end"), std::string::npos) << help.output;
+  EXPECT_EQ(help.output.find("zoomout_k_end"), std::string::npos) << help.output;
   EXPECT_EQ(run_shell(cli_ + " frobnicate").exit_code, 2);
+}
+
+// Settings that disagree are refused naming them as the user wrote them: by their flags.
+TEST_F(MatchCommand, SettingErrorsNameTheFlags) {
+  const ShellRun match = run_shell(cli_ + " match " + (*dir_ / "meshes/creature.ply").string() + " " +
+                                   (*dir_ / "meshes/creature_moved.ply").string() + " -o " +
+                                   (*dir_ / "never.map").string() + " --zoomout-k-end 300 --spectral-basis 200");
+  EXPECT_EQ(match.exit_code, 2);
+  EXPECT_NE(match.output.find("--zoomout-k-end = 300 exceeds --spectral-basis = 200"), std::string::npos)
+      << match.output;
 }
 
 }  // namespace

@@ -30,5 +30,15 @@ TEST(ProgressPrinter, ConcurrentReportsOfOneStageLogOneLine) {
   EXPECT_EQ(lines[2], "stage dense (level 5/5)");
 }
 
+// Stages outside the coarse-to-fine hierarchy have no level to show, and the end is "done".
+TEST(ProgressPrinter, LevelsOnlyWhereThereAreLevelsAndTheEndIsDone) {
+  std::vector<std::string> lines;
+  ProgressPrinter printer([&](const std::string& line) { lines.push_back(line); }, /*terminal=*/false);
+  printer({"preprocess-source", 0, 0, 0.0});
+  printer({"refine", 0, 0, 0.8});
+  printer({"done", 1, 1, 1.0});
+  EXPECT_EQ(lines, (std::vector<std::string>{"stage preprocess-source", "stage refine", "done"}));
+}
+
 }  // namespace
 }  // namespace isocorr::cli
