@@ -76,7 +76,9 @@ TEST(PartMapEvidence, APartsTrueMapAgreesWithTheWholesCurvature) {
     truth[p] = target->clean().input_to_clean[copy.permutation[part.full_vertex[source->clean().clean_to_input[p]]]];
   const double whole_measure = curvature_disagreement(*source, *target, truth);
   const PartMapEvidence evidence = measure_part_maps(*source, *target, {&truth}, 1)[0];
-  EXPECT_NEAR(evidence.scale, 1 / 2.5, 0.01);
+  // Measured between the normalised meshes: in the files' units, the copy's 2.5.
+  EXPECT_NEAR(length_ratio_in_files(evidence.scale, source->clean().normalisation, target->clean().normalisation),
+              1 / 2.5, 0.01);
   const double part_measure = evidence.curvature;
   EXPECT_LT(part_measure, 0.02);                  // 0.001 here
   EXPECT_LT(part_measure, 0.25 * whole_measure);  // 0.19 at the part's own lengths
@@ -225,8 +227,10 @@ TEST_F(PartOfBlob, SpectralRefinementTakesScatteredErrorsOutOfAPartsMap) {
     return files;
   };
   const double before = mean_error(part, in_files(forward));
+  // The copy's 2.5 in the files' units, as the normalised meshes see it.
+  const double kappa = length_ratio_normalised(1 / 2.5, source->clean().normalisation, target->clean().normalisation);
   const double after =
-      mean_error(part, in_files(refine_part_map_spectrally(*source, *target, 1 / 2.5, ZoomOutOptions{}, forward)));
+      mean_error(part, in_files(refine_part_map_spectrally(*source, *target, kappa, ZoomOutOptions{}, forward)));
   EXPECT_GT(before, 0.04);  // 0.053 here
   EXPECT_LT(after, 0.04);   // 0.029 here
   EXPECT_LT(after, 0.7 * before);
@@ -234,7 +238,7 @@ TEST_F(PartOfBlob, SpectralRefinementTakesScatteredErrorsOutOfAPartsMap) {
   MatchSettings settings;
   settings.threads = 2;
   const double polished =
-      mean_error(part, in_files(refine_as_part_map(*source, *target, settings, 1 / 2.5, forward, {}).forward));
+      mean_error(part, in_files(refine_as_part_map(*source, *target, settings, kappa, forward, {}).forward));
   EXPECT_LT(polished, 0.7 * before);
 }
 

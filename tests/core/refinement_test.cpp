@@ -379,7 +379,9 @@ TEST(RigidityPolish, RemovesNoiseFromAPartMapAtTheGivenScale) {
 
   RigidityOptions options;
   options.threads = 2;
-  RigidityPolish(*source, *target, options, 1.7).apply(map);
+  // Target length per source length, 1 / kappa, between the normalised meshes.
+  const double kappa = length_ratio_normalised(1 / 1.7, source->clean().normalisation, target->clean().normalisation);
+  RigidityPolish(*source, *target, options, 1 / kappa).apply(map);
   EXPECT_GE(exact_and_near(map.image, truth, topology).first, 0.99);
   EXPECT_TRUE(map.reverse_image.empty());
   ASSERT_EQ(map.residual.size(), map.image.size());

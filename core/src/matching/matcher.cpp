@@ -288,8 +288,13 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
                                  ? dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
                                                              target.normals(), dense.forward)
                                  : result.refined[result.refined_chosen].evidence.orientation;
-  if (settings.method != MatchMethod::kFull)
+  if (settings.method != MatchMethod::kFull) {
     result.target_matched_share = matched_area_share(vertex_areas(target.mesh()), dense.reverse);
+    // Kappa in the files' units: each mesh was normalised by its own power of two.
+    result.part_scale = length_ratio_in_files(result.part_scale, sc.normalisation, tc.normalisation);
+    for (PartCandidate& candidate : result.part_candidates)
+      candidate.scale = length_ratio_in_files(candidate.scale, sc.normalisation, tc.normalisation);
+  }
   for (const auto& repair : sc.repairs) result.warnings.push_back("source: " + repair);
   for (const auto& repair : tc.repairs) result.warnings.push_back("target: " + repair);
   control.report({"done", 1, 1, 1.0});

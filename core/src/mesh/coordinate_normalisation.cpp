@@ -12,6 +12,16 @@ Vec3 CoordinateNormalisation::to_input(const Vec3& normalised) const {
   return input;
 }
 
+double length_ratio_in_files(double normalised_ratio, const CoordinateNormalisation& source,
+                             const CoordinateNormalisation& target) {
+  return std::ldexp(normalised_ratio, target.exponent - source.exponent);
+}
+
+double length_ratio_normalised(double ratio_in_files, const CoordinateNormalisation& source,
+                               const CoordinateNormalisation& target) {
+  return std::ldexp(ratio_in_files, source.exponent - target.exponent);
+}
+
 CoordinateNormalisation normalise_coordinates(std::vector<Vec3>& points) {
   if (points.empty()) throw InputError("the mesh has no vertices");
   Vec3 lo = points[0], hi = points[0];

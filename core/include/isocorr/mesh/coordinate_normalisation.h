@@ -17,6 +17,13 @@ struct CoordinateNormalisation {
   Vec3 to_input(const Vec3& normalised) const;
 };
 
+// A ratio of source lengths to target lengths (a part's scale kappa) between normalised meshes,
+// given in the files' units, and back: each mesh has its own power of two.
+double length_ratio_in_files(double normalised_ratio, const CoordinateNormalisation& source,
+                             const CoordinateNormalisation& target);
+double length_ratio_normalised(double ratio_in_files, const CoordinateNormalisation& source,
+                               const CoordinateNormalisation& target);
+
 // Scales `points` by the power of two that brings the bounding box's largest half-extent into
 // [0.5, 1), then moves each axis whose box lies off the origin by at least twice that extent
 // onto it. Both steps are exact: a power of two only changes exponents, and a subtraction of
