@@ -1,6 +1,7 @@
 #include "isocorr/refinement/refinement.h"
 
 #include <algorithm>
+#include <optional>
 #include <unordered_map>
 #include <utility>
 
@@ -135,161 +136,267 @@ SpectralMap refine_again(const PreprocessedShape& source, const PreprocessedShap
   return refine_again_with(source, target, rigidity, map, settings, control);
 }
 
-RefinedMatch refine_and_choose(const PreprocessedShape& source, const PreprocessedShape& target,
-                               const std::vector<TrackedMap>& tracked, const std::vector<int>& ranked,
-                               const MatchSettings& settings, const JobControl& control) {
-  require_spectral_bases(source, target);
-  RefinedMatch result;
-  StageClock clock(result.timings);
-  // The best ranked distinct tracked maps are screened by a short refinement on the
-  // samples; refine_candidates of them, from the ranking and the screen in turn, go on
-  // (candidate_screening.h).
-  const int screened_count = std::max(settings.screen_candidates, settings.refine_candidates);
+namespace {
+
+// The best ranked tracked maps whose sample images differ, at most `count` of them.
+std::vector<int> pick_distinct(const std::vector<TrackedMap>& tracked, const std::vector<int>& ranked, int count) {
   std::vector<int> picked;
   for (const int index : ranked) {
-    if (static_cast<int>(picked.size()) >= screened_count) break;
+    if (static_cast<int>(picked.size()) >= count) break;
     bool distinct = true;
     for (const int other : picked) distinct = distinct && !same_map(tracked[other], tracked[index]);
     if (distinct) picked.push_back(index);
   }
-  ZoomOutOptions options = settings.zoomout;
-  options.threads = settings.threads;
-  std::vector<ScreenedStart> starts = screen_tracked_maps(
-      source, target, tracked, picked, std::min(settings.screen_k_end, options.k_end), options, control);
-  for (const ScreenedStart& start : starts) result.screened.push_back(start.evidence);
-  starts = starts_to_refine(std::move(starts), settings.refine_candidates, settings.orientation_margin,
-                            target.geodesics().topology());
-  clock.finish("screen");
+  return picked;
+}
 
-  const SpectralSide source_side = spectral_side(source), target_side = spectral_side(target);
-  const RigidityPolish rigidity(source, target, rigidity_options(settings));
-  // Candidates are finished before the choice, not only the winner: a right map that
-  // converged less well (SCAPE 001 -> 004, 006: D_grd 0.016-0.02 against 0.010 typical)
-  // lost to a turned body on heat signatures; finished, it wins (signature 0.0145 against
-  // 0.0150 on 001 -> 004).
-  // The candidates are finished without the mirror repair, the winner with it: repaired
-  // candidates lost SCAPE 001 -> 007 and 001 -> 012 to mirrored maps and won 007 -> 009
-  // (every SCAPE pair: 103 -> 102 flip-free). The winner's mirrored segments are unfolded
-  // before its spectral polish too, so that the polish refits around them (every SCAPE
-  // pair: D_grd 0.0103 -> 0.0101 with the last finishing alone, 0.0093 unfolded first;
-  // polishing the unfolded winner before its spectral polish as well gave 0.0096, and
-  // cost michael0 -> michael1 5 s).
-  auto finish = [&](SpectralMap& map, Finishing& finishing, int threads, bool mirror_repair) {
-    finishing = finish_map(source, target, rigidity, settings, map, control, threads, mirror_repair);
-  };
-  // The candidates are refined, finished and measured side by side, the workers shared
-  // out among them: they are independent, and each one's own loops left a core idle for
-  // much of their time (a 52K pair's four refinements 2.6 s, its finishings 2.4 s each).
-  // Every result is the same whatever the number of workers.
-  const int threads = resolve_thread_count(settings.threads);
-  std::vector<SpectralMap> refined_starts(starts.size());
-  parallel_for_sharing(static_cast<int>(starts.size()), threads, [&](int i, int workers) {
-    ZoomOutOptions shared_out = options;
-    shared_out.threads = workers;
-    continue_on_samples(source_side, target_side, options.k_end, shared_out, starts[i].sampled, control);
-    refined_starts[i] = zoomout_dense(source_side, target_side, starts[i].sampled, shared_out, control);
-  });
-  control.check_cancelled();
-  std::vector<SpectralMap> maps;
-  std::vector<int> refined;  // the tracked map of each of `maps`
-  for (size_t i = 0; i < starts.size(); ++i) {
-    // A map refined twice would be finished and measured twice, for nothing.
-    SpectralMap& map = refined_starts[i];
-    const bool seen = std::any_of(maps.begin(), maps.end(), [&](const SpectralMap& other) {
-      return same_dense_map(other.image, map.image, source.spectral_samples(), target.geodesics().topology());
-    });
-    if (seen) continue;
-    maps.push_back(std::move(map));
-    refined.push_back(starts[i].evidence.tracked_index);
+// One refinement of a pair's tracked maps, stage by stage (refine_and_choose lists them in
+// order); each stage leaves its result in the members the next one reads, and its time in
+// the result under its name.
+class CandidateRefinement {
+ public:
+  CandidateRefinement(const PreprocessedShape& source, const PreprocessedShape& target, const MatchSettings& settings,
+                      const JobControl& control)
+      : source_(source), target_(target), settings_(settings), control_(control),
+        options_(zoomout_options(settings)), source_side_(spectral_side(source)),
+        target_side_(spectral_side(target)), threads_(resolve_thread_count(settings.threads)),
+        clock_(result_.timings) {}
+
+  // The picked tracked maps are screened by a short refinement on the samples;
+  // refine_candidates of them, from the ranking and the screen in turn, go on
+  // (candidate_screening.h).
+  void screen(const std::vector<TrackedMap>& tracked, const std::vector<int>& picked) {
+    std::vector<ScreenedStart> starts = screen_tracked_maps(
+        source_, target_, tracked, picked, std::min(settings_.screen_k_end, options_.k_end), options_, control_);
+    for (const ScreenedStart& start : starts) result_.screened.push_back(start.evidence);
+    starts_ = starts_to_refine(std::move(starts), settings_.refine_candidates, settings_.orientation_margin,
+                               target_.geodesics().topology());
+    clock_.finish("screen");
   }
-  clock.finish("refine");
-  // A mirror image stays one when finished (it reverses handedness everywhere): the
-  // handedness of the spectral maps decides which are worth finishing.
-  std::vector<double> handedness(maps.size());
-  for (size_t i = 0; i < maps.size(); ++i)
-    handedness[i] = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(), target.normals(),
-                                                maps[i].image);
-  const double best_handedness = maps.empty() ? 0 : *std::max_element(handedness.begin(), handedness.end());
+
+  // Each start refined on the samples to the full basis, then on every vertex. The starts
+  // are refined side by side, the workers shared out among them: they are independent, and
+  // each one's own loops left a core idle for much of their time (a 52K pair's four
+  // refinements 2.6 s). Every result is the same whatever the number of workers.
+  void refine() {
+    // The pair's rigidity system (three sparse factors), built once the screen is done.
+    rigidity_.emplace(source_, target_, rigidity_options(settings_));
+    refined_starts_.resize(starts_.size());
+    parallel_for_sharing(static_cast<int>(starts_.size()), threads_, [&](int i, int workers) {
+      ZoomOutOptions shared_out = options_;
+      shared_out.threads = workers;
+      continue_on_samples(source_side_, target_side_, options_.k_end, shared_out, starts_[i].sampled, control_);
+      refined_starts_[i] = zoomout_dense(source_side_, target_side_, starts_[i].sampled, shared_out, control_);
+    });
+    control_.check_cancelled();
+    clock_.finish("refine");
+  }
+
+  // A map refined twice would be finished and measured twice, for nothing.
+  void drop_duplicates() {
+    for (size_t i = 0; i < starts_.size(); ++i) {
+      SpectralMap& map = refined_starts_[i];
+      const bool seen = std::any_of(maps_.begin(), maps_.end(), [&](const SpectralMap& other) {
+        return same_dense_map(other.image, map.image, source_.spectral_samples(), target_.geodesics().topology());
+      });
+      if (seen) continue;
+      maps_.push_back(std::move(map));
+      tracked_of_.push_back(starts_[i].evidence.tracked_index);
+    }
+    clock_.finish("drop_duplicates");
+  }
+
+  // Which maps are finished. A mirror image stays one when finished (it reverses handedness
+  // everywhere): the handedness of the spectral maps decides which are worth finishing.
   // Finishing costs as much as the spectral refinement; only the kFinishedCandidates maps
   // that pass the mirror test and whose raw curvature agrees best are finished, and only
   // finished maps compete while one is eligible. A raw map is no match for a finished one:
   // the polish tears a swapped limb's seams open, so a partial flip's curvature rises when
   // finished (SCAPE 000 -> 011: raw 0.124 against the right map's 0.136, finished 0.144
   // against 0.128).
-  std::vector<std::pair<double, size_t>> by_curvature;
-  const double mirror_below = mirror_threshold(best_handedness, settings.orientation_margin);
-  for (size_t i = 0; i < maps.size(); ++i)
-    if (handedness[i] >= mirror_below)
-      by_curvature.emplace_back(curvature_disagreement(source, target, maps[i].image), i);
-  std::sort(by_curvature.begin(), by_curvature.end());
-  while (by_curvature.size() > kAlwaysFinished &&
-         by_curvature.back().first > (1 + kFinishedCurvatureMargin) * by_curvature[0].first)
-    by_curvature.pop_back();
-  if (by_curvature.size() > kFinishedCandidates) by_curvature.resize(kFinishedCandidates);
-  std::vector<bool> finished(maps.size(), false);
-  std::vector<Finishing> finishings(maps.size());
-  for (const auto& [curvature, i] : by_curvature) finished[i] = true;
-  auto measure = [&](size_t i, DenseCandidate& candidate, int threads) {
-    candidate.forward = maps[i].image;
-    candidate.evidence = measure_dense_map(source, target, maps[i].image, maps[i].reverse_image,
-                                           settings.dense_choice_sources, threads);
-  };
-  result.candidates.resize(maps.size());
-  // The finished ones first: a finishing costs several measurings. Where all maps are
-  // alike (all finished, or none), the last few share the workers. Where the finishings
-  // fill whole rounds of workers, the cheap measurings run beside the last round, one
-  // worker each (run after them instead, a 5K pair's two finishings and two measurings
-  // took 0.045 s longer). Where they do not, a lone last finishing would run on one worker
-  // while the measurings left the others idle: the finishings share the workers first, the
-  // measurings after them (TOSCA 5k cat1 -> cat2, three finished and one measured: a core
-  // sat idle for 0.2 s).
-  std::vector<int> order;
-  for (size_t i = 0; i < maps.size(); ++i)
-    if (finished[i]) order.push_back(static_cast<int>(i));
-  const int finishing = static_cast<int>(order.size());
-  for (size_t i = 0; i < maps.size(); ++i)
-    if (!finished[i]) order.push_back(static_cast<int>(i));
-  auto finish_and_measure = [&](int i, int workers) {
-    if (finished[i]) finish(maps[i], finishings[i], workers, false);
-    result.candidates[i].tracked_index = refined[i];
-    result.candidates[i].finished = finished[i];
-    measure(i, result.candidates[i], workers);
-  };
-  const int count = static_cast<int>(order.size());
-  if (finishing == count || finishing == 0 || finishing % threads != 0) {
-    parallel_for_sharing(finishing, threads, [&](int k, int workers) { finish_and_measure(order[k], workers); });
-    parallel_for_sharing(count - finishing, threads,
-                         [&](int k, int workers) { finish_and_measure(order[finishing + k], workers); });
-  } else {
-    parallel_for(count, threads, [&](int k, int) { finish_and_measure(order[k], 1); });
+  void preselect() {
+    std::vector<double> handedness(maps_.size());
+    for (size_t i = 0; i < maps_.size(); ++i)
+      handedness[i] = dense_orientation_agreement(source_.mesh(), source_.normals(), target_.mesh(),
+                                                  target_.normals(), maps_[i].image);
+    const double best_handedness = maps_.empty() ? 0 : *std::max_element(handedness.begin(), handedness.end());
+    std::vector<std::pair<double, size_t>> by_curvature;
+    const double mirror_below = mirror_threshold(best_handedness, settings_.orientation_margin);
+    for (size_t i = 0; i < maps_.size(); ++i)
+      if (handedness[i] >= mirror_below)
+        by_curvature.emplace_back(curvature_disagreement(source_, target_, maps_[i].image), i);
+    std::sort(by_curvature.begin(), by_curvature.end());
+    while (by_curvature.size() > kAlwaysFinished &&
+           by_curvature.back().first > (1 + kFinishedCurvatureMargin) * by_curvature[0].first)
+      by_curvature.pop_back();
+    if (by_curvature.size() > kFinishedCandidates) by_curvature.resize(kFinishedCandidates);
+    finished_.assign(maps_.size(), false);
+    for (const auto& [curvature, i] : by_curvature) finished_[i] = true;
+    clock_.finish("preselect");
   }
-  control.check_cancelled();
-  result.chosen = choose_dense_candidate(result.candidates, settings.orientation_margin, result.why);
-  SpectralMap& winner = maps[result.chosen];
-  if (!finished[result.chosen]) {  // no finished candidate was eligible
-    finish(winner, finishings[result.chosen], settings.threads, false);
-    measure(result.chosen, result.candidates[result.chosen], settings.threads);
+
+  // The preselected maps finished (outlier repair, rigidity polish without the mirror
+  // repair) and every map measured by dense evidence. Candidates are finished before the
+  // choice, not only the winner: a right map that converged less well (SCAPE 001 -> 004,
+  // 006: D_grd 0.016-0.02 against 0.010 typical) lost to a turned body on heat signatures;
+  // finished, it wins (signature 0.0145 against 0.0150 on 001 -> 004). Repaired candidates
+  // lost SCAPE 001 -> 007 and 001 -> 012 to mirrored maps and won 007 -> 009 (every SCAPE
+  // pair: 103 -> 102 flip-free), so the mirror repair is the winner's alone.
+  void finish() {
+    finishings_.resize(maps_.size());
+    result_.candidates.resize(maps_.size());
+    // The finished ones first: a finishing costs several measurings. Where all maps are
+    // alike (all finished, or none), the last few share the workers. Where the finishings
+    // fill whole rounds of workers, the cheap measurings run beside the last round, one
+    // worker each (run after them instead, a 5K pair's two finishings and two measurings
+    // took 0.045 s longer). Where they do not, a lone last finishing would run on one
+    // worker while the measurings left the others idle: the finishings share the workers
+    // first, the measurings after them (TOSCA 5k cat1 -> cat2, three finished and one
+    // measured: a core sat idle for 0.2 s).
+    std::vector<int> order;
+    for (size_t i = 0; i < maps_.size(); ++i)
+      if (finished_[i]) order.push_back(static_cast<int>(i));
+    const int finishing = static_cast<int>(order.size());
+    for (size_t i = 0; i < maps_.size(); ++i)
+      if (!finished_[i]) order.push_back(static_cast<int>(i));
+    auto finish_and_measure = [&](int i, int workers) {
+      if (finished_[i]) finish_one(maps_[i], finishings_[i], workers, false);
+      result_.candidates[i].tracked_index = tracked_of_[i];
+      result_.candidates[i].finished = finished_[i];
+      measure(i, workers);
+    };
+    const int count = static_cast<int>(order.size());
+    if (finishing == count || finishing == 0 || finishing % threads_ != 0) {
+      parallel_for_sharing(finishing, threads_, [&](int k, int workers) { finish_and_measure(order[k], workers); });
+      parallel_for_sharing(count - finishing, threads_,
+                           [&](int k, int workers) { finish_and_measure(order[finishing + k], workers); });
+    } else {
+      parallel_for(count, threads_, [&](int k, int) { finish_and_measure(order[k], 1); });
+    }
+    control_.check_cancelled();
+    clock_.finish("finish");
   }
-  Finishing last = finishings[result.chosen];
-  clock.finish("finish");
-  if (settings.rigidity.mirror_repair) result.mirror_repair_chosen = rigidity.unfold_mirrors(winner);
-  // The candidates' evidence describes their maps before the spectral polish: it decided
-  // the choice. Without a polish, an unfolded winner is finished again instead.
-  const bool polished = zoomout_polish(source_side, target_side, options, winner, control);
-  if (polished || result.mirror_repair_chosen.segments > 0) finish(winner, last, settings.threads, true);
-  result.repair = last.repair;
-  result.mirror_repair = last.mirror_repair;
-  for (int pass = 0; pass < settings.refine_passes; ++pass)
-    winner = refine_again_with(source, target, rigidity, winner, settings, control);
-  result.final_polish = extend_rigidity_polish(source, target, settings.rigidity_final_iterations,
-                                               settings.threads, winner, control);
-  result.candidates[result.chosen].forward = winner.image;
-  result.dense.forward = std::move(winner.image);
-  result.dense.forward_diso = std::move(winner.residual);
-  result.dense.reverse = std::move(winner.reverse_image);
-  result.dense.reverse_diso = std::move(winner.reverse_residual);
-  clock.finish("polish");
-  return result;
+
+  // The choice by dense evidence (dense_choice.h). A winner that was not finished (no
+  // finished candidate was eligible) is finished and measured now.
+  void choose() {
+    const int chosen = result_.chosen =
+        choose_dense_candidate(result_.candidates, settings_.orientation_margin, result_.why);
+    if (!finished_[chosen]) {
+      finish_one(maps_[chosen], finishings_[chosen], settings_.threads, false);
+      measure(chosen, settings_.threads);
+    }
+    last_ = finishings_[chosen];
+    clock_.finish("choose");
+  }
+
+  // The winner's mirrored segments held at both ends are unfolded before its spectral
+  // polish, so that the polish refits around them (every SCAPE pair: D_grd 0.0103 -> 0.0101
+  // with the last finishing alone, 0.0093 unfolded first; polishing the unfolded winner
+  // before its spectral polish as well gave 0.0096, and cost michael0 -> michael1 5 s).
+  void unfold_mirrors() {
+    if (settings_.rigidity.mirror_repair) result_.mirror_repair_chosen = rigidity_->unfold_mirrors(winner());
+    clock_.finish("unfold_mirrors");
+  }
+
+  // The winner refined on every vertex up to zoomout_polish_k_end, with the curvature term
+  // (zoomout.h). The candidates' evidence describes their maps before it: it decided the
+  // choice.
+  void spectral_polish() {
+    polished_ = zoomout_polish(source_side_, target_side_, options_, winner(), control_);
+    clock_.finish("spectral_polish");
+  }
+
+  // A winner the spectral polish or the unfolding changed is finished again, now with the
+  // mirror repair.
+  void finish_with_mirror_repair() {
+    if (polished_ || result_.mirror_repair_chosen.segments > 0) finish_one(winner(), last_, settings_.threads, true);
+    result_.repair = last_.repair;
+    result_.mirror_repair = last_.mirror_repair;
+    clock_.finish("finish_with_mirror_repair");
+  }
+
+  // settings.refine_passes refinements of the winner from its own images (refine_again).
+  void refine_again() {
+    for (int pass = 0; pass < settings_.refine_passes; ++pass)
+      winner() = refine_again_with(source_, target_, *rigidity_, winner(), settings_, control_);
+    clock_.finish("refine_again");
+  }
+
+  // settings.rigidity_final_iterations more rigidity iterations (final_polish.h).
+  void final_polish() {
+    result_.final_polish = extend_rigidity_polish(source_, target_, settings_.rigidity_final_iterations,
+                                                  settings_.threads, winner(), control_);
+    clock_.finish("final_polish");
+  }
+
+  // The winner, as the dense map of the match.
+  RefinedMatch result() {
+    SpectralMap& map = winner();
+    result_.candidates[result_.chosen].forward = map.image;
+    result_.dense.forward = std::move(map.image);
+    result_.dense.forward_diso = std::move(map.residual);
+    result_.dense.reverse = std::move(map.reverse_image);
+    result_.dense.reverse_diso = std::move(map.reverse_residual);
+    return std::move(result_);
+  }
+
+ private:
+  static ZoomOutOptions zoomout_options(const MatchSettings& settings) {
+    ZoomOutOptions options = settings.zoomout;
+    options.threads = settings.threads;
+    return options;
+  }
+  SpectralMap& winner() { return maps_[result_.chosen]; }
+  void finish_one(SpectralMap& map, Finishing& finishing, int threads, bool mirror_repair) {
+    finishing = finish_map(source_, target_, *rigidity_, settings_, map, control_, threads, mirror_repair);
+  }
+  void measure(int i, int threads) {
+    DenseCandidate& candidate = result_.candidates[i];
+    candidate.forward = maps_[i].image;
+    candidate.evidence = measure_dense_map(source_, target_, maps_[i].image, maps_[i].reverse_image,
+                                           settings_.dense_choice_sources, threads);
+  }
+
+  const PreprocessedShape& source_;
+  const PreprocessedShape& target_;
+  const MatchSettings& settings_;
+  const JobControl& control_;
+  const ZoomOutOptions options_;
+  const SpectralSide source_side_, target_side_;
+  std::optional<RigidityPolish> rigidity_;
+  const int threads_;
+  RefinedMatch result_;
+  StageClock clock_;
+  std::vector<ScreenedStart> starts_;
+  std::vector<SpectralMap> refined_starts_;
+  std::vector<SpectralMap> maps_;    // the distinct refined maps
+  std::vector<int> tracked_of_;      // the tracked map of each of maps_
+  std::vector<bool> finished_;       // per map: finished before the choice
+  std::vector<Finishing> finishings_;
+  Finishing last_;                   // the winner's latest finishing
+  bool polished_ = false;
+};
+
+}  // namespace
+
+RefinedMatch refine_and_choose(const PreprocessedShape& source, const PreprocessedShape& target,
+                               const std::vector<TrackedMap>& tracked, const std::vector<int>& ranked,
+                               const MatchSettings& settings, const JobControl& control) {
+  require_spectral_bases(source, target);
+  CandidateRefinement run(source, target, settings, control);
+  run.screen(tracked, pick_distinct(tracked, ranked, std::max(settings.screen_candidates, settings.refine_candidates)));
+  run.refine();
+  run.drop_duplicates();
+  run.preselect();
+  run.finish();
+  run.choose();
+  run.unfold_mirrors();
+  run.spectral_polish();
+  run.finish_with_mirror_repair();
+  run.refine_again();
+  run.final_polish();
+  return run.result();
 }
 
 }  // namespace isocorr

@@ -30,8 +30,9 @@ struct RefinedMatch {
   // (settings.rigidity.mirror_repair).
   MirrorRepair mirror_repair_chosen, mirror_repair;
   FinalPolishOutcome final_polish;  // settings.rigidity_final_iterations (after settings.refine_passes)
-  // Wall-clock time of the steps above: screen, refine (spectral, every start), finish
-  // (repair, rigidity polish and dense measures of the candidates), polish (the winner's).
+  // Wall-clock time of each stage, named as refine_and_choose runs them: screen, refine,
+  // drop_duplicates, preselect, finish, choose, unfold_mirrors, spectral_polish,
+  // finish_with_mirror_repair, refine_again, final_polish.
   std::vector<StageTiming> timings;
 };
 
