@@ -1,5 +1,5 @@
-// RAVAC, part matching in the most general setting (Sahillioglu & Yemez, CGF'14, as
-// summarised in papers/000 "rank-and-vote-and-combine"): either shape may be partial or
+// RAVAC, part matching in the most general setting (Sahillioglu & Yemez, CGF'14,
+// rank-and-vote-and-combine; docs/partial.md): either shape may be partial or
 // carry parts the other lacks, and the scale is unknown. Its output is a set of sparse
 // extremity maps that part_matching.cpp grows to sample maps, extends to every vertex and
 // chooses among, as it does for the part search's candidates.

@@ -57,8 +57,8 @@ TrackingPlan plan_tracking(const PreprocessedShape& source, int level0_count, in
 // level by level up to the plan's last level (the shapes' decision level K1). Each new
 // source sample is matched to the target sample near its parent's image that minimises
 // d_iso against the pairs of earlier levels: with many reliable anchors this per-sample
-// choice avoids the drift of small combinatorial patches (ALGORITHM.md, "What a prototype
-// measured").
+// choice avoids the drift of small combinatorial patches (docs/decisions.md, "Per-sample
+// refinement rather than combinatorial patches").
 TrackedMap track_map(const PreprocessedShape& source, const PreprocessedShape& target, const TrackingPlan& plan,
                      const Level0Map& map, int rank, const TrackingOptions& options, const JobControl& control);
 

@@ -1,6 +1,7 @@
 // Does a map keep the handedness of small triangles? An intrinsic isometry cannot tell a
-// shape from its mirror (ALGORITHM.md measured a 0.9% D_iso gap on TOSCA), but a mirror
-// reverses orientation: ground-truth maps keep 92-100% of triangles, mirrored ones 1-9%.
+// shape from its mirror (the prototype measured a 0.9% D_iso gap on TOSCA,
+// docs/decisions.md), but a mirror reverses orientation: ground-truth maps keep 92-100% of
+// triangles, mirrored ones 1-9%.
 // Needs consistently oriented meshes, which clean_mesh guarantees.
 #pragma once
 

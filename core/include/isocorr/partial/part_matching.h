@@ -1,4 +1,4 @@
-// Part matching (Sahillioglu & Yemez, PG'12, as summarised in papers/000): the source is a
+// Part matching (Sahillioglu & Yemez, PG'12; docs/partial.md): the source is a
 // part of the target's shape, such as a scan with a missing limb or half a body, at a
 // scale that need not be the target's.
 //

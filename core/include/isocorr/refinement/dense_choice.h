@@ -1,8 +1,8 @@
 // Choosing among refined dense maps by evidence a mirror or a turned body cannot fake.
 // Sparse evidence cannot: a human map that swaps left/right AND front/back is a 180-degree
 // turn, keeps handedness and comes within a few per cent of the true map's sample D_iso
-// (ALGORITHM.md, faust_5k 000->001). A mirror reverses the handedness of most faces; a
-// turned map keeps it (face by face and neighbourhood by neighbourhood), and its geodesic
+// (the prototype, faust_5k 000->001; docs/decisions.md). A mirror reverses the handedness
+// of most faces; a turned map keeps it (face by face and neighbourhood by neighbourhood), and its geodesic
 // distortion between coarse samples is often as low as the true map's (lower on 10 of 40
 // faust_5k pairs), but it sends toes to heels and faces to the backs of heads. The heat
 // kernel signature, truncated to the refinement's basis, barely sees that (right and

@@ -1,6 +1,6 @@
 // Per-vertex saliency: extremities first, then average geodesic distance (AGD).
 //
-// The prototype measurements in ALGORITHM.md found "extremities first (local maxima of
+// The prototype measurements (docs/decisions.md) found "extremities first (local maxima of
 // AGD), then AGD" the best ordering for level-0 samples and plain |Gaussian curvature|
 // the worst, so that is the order used here.
 #pragma once

@@ -1,4 +1,4 @@
-// Evenly spaced salient sampling (ALGORITHM.md, per-mesh step 4), for all levels at once.
+// Evenly spaced salient sampling (docs/algorithm.md, per-mesh preprocessing), for all levels at once.
 //
 // Vertices are visited by decreasing saliency and accepted when they lie at least the
 // level's radius (geodesic) from every sample accepted so far. Radii shrink level by level,
