@@ -3,10 +3,14 @@
 // preprocessed meshes and a pool of job workers.
 #include <pthread.h>
 #include <signal.h>
+#include <unistd.h>
 
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <cstdlib>
 #include <memory>
 #include <string>
 #include <thread>
@@ -66,13 +70,23 @@ class WithoutReflection final : public grpc::ServerBuilderOption {
 // or the grace period and a second more passing, ends the process at once.
 void end_process_if_shutdown_stalls(const sigset_t& signals, int grace_seconds) {
   std::thread([signals, grace_seconds] {
-    const timespec timeout{grace_seconds + 1, 0};
-    const int second = sigtimedwait(&signals, nullptr, &timeout);
-    if (second > 0)
-      spdlog::warn("signal {} again: stopping now", second);
-    else
-      spdlog::error("shutdown still not done {} s after the signal: stopping now", grace_seconds + 1);
-    spdlog::default_logger()->flush();
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(grace_seconds + 1);
+    int second = -1;
+    for (;;) {  // a wait interrupted by another signal (EINTR) goes on until the deadline
+      const auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(deadline - std::chrono::steady_clock::now());
+      if (left.count() <= 0) break;
+      const timespec timeout{static_cast<time_t>(left.count() / 1'000'000'000), static_cast<long>(left.count() % 1'000'000'000)};
+      second = sigtimedwait(&signals, nullptr, &timeout);
+      if (second > 0 || errno != EINTR) break;
+    }
+    // No logger from here: main may have returned already and be tearing it down.
+    char message[128];
+    const int length =
+        second > 0 ? std::snprintf(message, sizeof message, "isocorr-server: signal %d again: stopping now\n", second)
+                   : std::snprintf(message, sizeof message,
+                                   "isocorr-server: shutdown still not done %d s after the signal: stopping now\n",
+                                   grace_seconds + 1);
+    if (length > 0) (void)!write(STDERR_FILENO, message, static_cast<size_t>(length));
     std::_Exit(1);
   }).detach();
 }

@@ -71,6 +71,12 @@ ServerProcess::ServerProcess(fs::path data_dir, std::vector<std::string> extra)
                                    port_file.string(), "--log-level", "debug"};
   if (std::find(extra.begin(), extra.end(), "--listen") == extra.end())
     args.insert(args.end(), {"--listen", "127.0.0.1:0"});
+#ifdef ISOCORR_SANITIZED
+  // A server stops at the grace period whatever its workers do; instrumented builds run 5 to
+  // 20 times slower, so a running job needs longer to reach the point where it stops cleanly.
+  if (std::find(extra.begin(), extra.end(), "--shutdown-grace") == extra.end())
+    args.insert(args.end(), {"--shutdown-grace", "120"});
+#endif
   args.insert(args.end(), extra.begin(), extra.end());
   pid_ = fork();
   if (pid_ == 0) {
