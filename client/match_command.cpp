@@ -67,8 +67,8 @@ int match_locally(const MatchJobFiles& args) {
     control.on_progress = [&](const Progress& p) { printer(p); };
     control.cancel_requested = &g_interrupted;
     const MatchResult result = match_meshes(source.mesh, target.mesh, args.settings, control);
-    for (const auto& warning : result.warnings) spdlog::warn("{}", warning);
-    for (const auto& note : result.notes) spdlog::info("{}", note);
+    for (const auto& warning : result.messages.warnings) spdlog::warn("{}", warning);
+    for (const auto& note : result.messages.notes) spdlog::info("{}", note);
 
     const MatchOutput& out = result.output;
     write_map(args.output, out.forward);
@@ -83,12 +83,12 @@ int match_locally(const MatchJobFiles& args) {
     // The report's numbers: its "chosen" tracked map and its final orientation.
     spdlog::info("matched {} -> {} vertices in {:.2f} s: D_iso {:.4f}, orientation {:.2f}, tracked {} of {} level-0 "
                  "maps, chose tracked map {} (level-0 rank {}); map written to {}",
-                 out.forward.size(), out.reverse.size(), seconds, result.diso, result.dense_orientation,
-                 result.tracked.size(), result.level0.size(), result.chosen, result.tracked[result.chosen].level0_rank,
+                 out.forward.size(), out.reverse.size(), seconds, result.quality.diso, result.quality.orientation,
+                 result.diagnostics.tracking.maps.size(), result.diagnostics.level0.maps.size(), result.diagnostics.tracking.chosen, result.diagnostics.tracking.maps[result.diagnostics.tracking.chosen].level0_rank,
                  args.output);
     if (args.settings.method != MatchMethod::kFull)
       spdlog::info("part matching: {:.1f}% of the target's area matched (reverse map -1 elsewhere), part scale {:.3f}",
-                   100 * result.target_matched_share, result.part_scale);
+                   100 * result.quality.target_matched_share, result.quality.part_scale);
     return kExitOk;
   } catch (const InputError& e) {
     spdlog::error("{}", with_flag_names(e.what()));  // the engine names settings as the API does

@@ -71,9 +71,9 @@ RuleOutcome score_map(const std::vector<int>& forward, const TriangleMesh& targe
 RuleOutcome score(const MatchResult& result, const TriangleMesh& target, const FastMarching& geodesics,
                   double diameter, const GroundTruth& truth, int points) {
   RuleOutcome out = score_map(result.output.forward, target, geodesics, diameter, truth, points);
-  out.diso = result.diso;
-  out.tracked = static_cast<int>(result.tracked.size());
-  out.chosen_rank = result.tracked[result.chosen].level0_rank;
+  out.diso = result.quality.diso;
+  out.tracked = static_cast<int>(result.diagnostics.tracking.maps.size());
+  out.chosen_rank = result.diagnostics.tracking.maps[result.diagnostics.tracking.chosen].level0_rank;
   return out;
 }
 
@@ -104,13 +104,13 @@ PairOutcome run_pair(const std::string& dataset, const BenchmarkPair& pair, Matc
   if (candidates) {
     EvaluationOptions options;
     options.max_points = points;
-    for (size_t i = 0; i < as_set.refined.size(); ++i) {
-      const DenseCandidate& c = as_set.refined[i];
+    for (size_t i = 0; i < as_set.diagnostics.refinement.candidates.size(); ++i) {
+      const DenseCandidate& c = as_set.diagnostics.refinement.candidates[i];
       const GroundTruthScore s = score_against_ground_truth(target.mesh, geodesics, diameter, c.forward, truth, options);
       outcome.candidates.push_back({c.evidence.orientation, c.evidence.neighbourhood_orientation, c.evidence.distortion,
                                     c.evidence.round_trip, c.evidence.signature_disagreement,
                                     c.evidence.curvature_disagreement, s.mean_error,
-                                    s.flip_free, static_cast<int>(i) == as_set.refined_chosen, c.finished});
+                                    s.flip_free, static_cast<int>(i) == as_set.diagnostics.refinement.chosen, c.finished});
     }
   }
   outcome.vertices = source.mesh.num_vertices();

@@ -149,10 +149,10 @@ int main(int argc, char** argv) {
                       "matched %.0f%%\n",
                       100 * part.kept_area, part.mesh.num_vertices(), seconds, right ? "ok   " : "WRONG",
                       s.mean_error, s.mean_kim_error, s.kim_auc, s.mirrored_fraction, covered,
-                      100 * result.target_matched_share);
+                      100 * result.quality.target_matched_share);
           if (candidates) {
-            for (size_t i = 0; i < result.part_candidates.size(); ++i) {
-              const PartCandidate& pc = result.part_candidates[i];
+            for (size_t i = 0; i < result.diagnostics.part.candidates.size(); ++i) {
+              const PartCandidate& pc = result.diagnostics.part.candidates[i];
               const GroundTruthScore cs =
                   score_against_ground_truth(target_mesh, geodesics, diameter, pc.forward, part_truth, options);
               std::printf("   %c%c candidate %2zu: orientation %.2f curvature %.4f covered %.2f kappa %.3f distortion %.4f "
@@ -195,7 +195,7 @@ int main(int argc, char** argv) {
             if (!right) continue;
             ++t->right;
             t->kim += s.mean_kim_error, t->d_grd += s.mean_error, t->auc += s.kim_auc, t->coverage += covered;
-            t->matched_share += result.target_matched_share;
+            t->matched_share += result.quality.target_matched_share;
           }
         } catch (const std::exception& e) {
           std::printf(" FAILED: %s\n", e.what());

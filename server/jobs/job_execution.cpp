@@ -73,7 +73,7 @@ JobRecord run_to_conclusion(const JobRecord& job, MeshRepository& meshes, ShapeC
     final_record.state = JobState::kSucceeded;
     final_record.summary = result.summary();
     final_record.progress = {"done", 0, 0, 1.0};
-    for (const auto& warning : result.warnings) spdlog::warn("[{}] {}", job_tag(job), warning);
+    for (const auto& warning : result.messages.warnings) spdlog::warn("[{}] {}", job_tag(job), warning);
     spdlog::info("[{}] succeeded: D_iso {:.4f}", job_tag(job), final_record.summary.diso);
   } catch (const DeadlineExceeded&) {
     final_record.state = JobState::kFailed;

@@ -49,7 +49,7 @@ TEST_F(MatcherOnBlob, RecoversThePermutation) {
   const int n = static_cast<int>(result.output.forward.size());
   EXPECT_GE(exact, 0.99 * n) << "exact " << exact << " of " << n;
   EXPECT_EQ(exact + within_ring, n);
-  EXPECT_GT(result.dense_orientation, 0.9);
+  EXPECT_GT(result.quality.orientation, 0.9);
 
   // The reverse map is the inverse permutation on the same terms.
   int reverse_exact = 0;
@@ -65,7 +65,7 @@ TEST_F(MatcherOnBlob, ResultDoesNotDependOnThreadCount) {
   const MatchResult b = match_meshes(*blob_, copy_->mesh, two);
   EXPECT_EQ(a.output.forward, b.output.forward);
   EXPECT_EQ(a.output.reverse, b.output.reverse);
-  EXPECT_EQ(a.chosen, b.chosen);
+  EXPECT_EQ(a.diagnostics.tracking.chosen, b.diagnostics.tracking.chosen);
 }
 
 TEST_F(MatcherOnBlob, ReportsProgressAndHonoursCancellation) {
@@ -90,15 +90,15 @@ TEST_F(MatcherOnBlob, InputRepairsAreWarningsAndRoutineStepsAreNotes) {
   MatchSettings settings;
   settings.threads = 2;
   const MatchResult result = match_meshes(*blob_, target, settings);
-  ASSERT_EQ(result.warnings.size(), 1u);
-  EXPECT_EQ(result.warnings[0].rfind("target: ", 0), 0u) << result.warnings[0];
-  EXPECT_NE(result.warnings[0].find("dropped 1 vertex used by no face"), std::string::npos) << result.warnings[0];
-  EXPECT_FALSE(result.notes.empty());
-  for (const std::string& note : result.notes) EXPECT_EQ(note.find("dropped"), std::string::npos) << note;
-  EXPECT_EQ(result.summary().notes.front(), result.warnings[0]);
+  ASSERT_EQ(result.messages.warnings.size(), 1u);
+  EXPECT_EQ(result.messages.warnings[0].rfind("target: ", 0), 0u) << result.messages.warnings[0];
+  EXPECT_NE(result.messages.warnings[0].find("dropped 1 vertex used by no face"), std::string::npos) << result.messages.warnings[0];
+  EXPECT_FALSE(result.messages.notes.empty());
+  for (const std::string& note : result.messages.notes) EXPECT_EQ(note.find("dropped"), std::string::npos) << note;
+  EXPECT_EQ(result.summary().notes.front(), result.messages.warnings[0]);
 
   const MatchResult clean = match_meshes(*blob_, copy_->mesh, settings);
-  EXPECT_TRUE(clean.warnings.empty());
+  EXPECT_TRUE(clean.messages.warnings.empty());
 }
 
 TEST(MatcherSettings, OutOfRangeSettingsAreInputErrors) {
@@ -126,7 +126,7 @@ TEST(MatcherSelfMatch, IdentityComesBack) {
   int exact = 0;
   for (size_t v = 0; v < result.output.forward.size(); ++v) exact += result.output.forward[v] == static_cast<int>(v);
   EXPECT_GE(exact, 0.99 * result.output.forward.size());
-  EXPECT_LT(result.diso, 1e-3);
+  EXPECT_LT(result.quality.diso, 1e-3);
 }
 
 // A mesh is matched the same at any scale: coordinates near the largest double (which once

@@ -146,7 +146,7 @@ void PartOf<Subdivisions>::expect_part_maps_onto_its_place(CutKind kind) {
   ASSERT_EQ(result.output.forward.size(), part.mesh.vertices.size());
   ASSERT_EQ(result.output.reverse.size(), copy_->mesh.vertices.size());
   EXPECT_LT(mean_error(part, result.output.forward), 0.02) << cut_kind_name(kind);
-  EXPECT_NEAR(result.part_scale, 1 / 2.5, 0.05) << cut_kind_name(kind);
+  EXPECT_NEAR(result.quality.part_scale, 1 / 2.5, 0.05) << cut_kind_name(kind);
 
   // No candidate matched a sample on the cut's rim: its distances are all upper bounds,
   // which any image nearer than them meets at no cost.
@@ -156,7 +156,7 @@ void PartOf<Subdivisions>::expect_part_maps_onto_its_place(CutKind kind) {
   int rim_samples = 0;
   for (int i = 0; i < source->num_samples(); ++i) rim_samples += rim[source->sample_vertex(i)];
   ASSERT_GT(rim_samples, 0) << cut_kind_name(kind);
-  for (const TrackedMap& candidate : result.tracked)
+  for (const TrackedMap& candidate : result.diagnostics.tracking.maps)
     for (const SamplePair& pair : candidate.pairs)
       ASSERT_FALSE(rim[source->sample_vertex(pair.source_sample)]) << cut_kind_name(kind) << " sample " << pair.source_sample;
 
@@ -188,7 +188,7 @@ void PartOf<Subdivisions>::expect_part_maps_onto_its_place(CutKind kind) {
   for (const int image : result.output.forward) landed_deep += from_kept.distance[full_of_copy[image]] > deep;
   EXPECT_LE(landed_deep, 0.01 * result.output.forward.size()) << cut_kind_name(kind);
   EXPECT_LE(deep_matched, 0.1 * deep_total) << cut_kind_name(kind);
-  EXPECT_NEAR(result.target_matched_share, part.kept_area, 0.1) << cut_kind_name(kind);
+  EXPECT_NEAR(result.quality.target_matched_share, part.kept_area, 0.1) << cut_kind_name(kind);
 }
 
 TEST_F(PartOfBlob, ABallCutPartMapsOntoItsPlaceAtAnyScaleAndTheRestHasNoCounterpart) {
@@ -255,12 +255,12 @@ void PartOf<Subdivisions>::expect_part_with_holes_matches() {
   settings.threads = 2;
   const MatchResult result = match_meshes(part.mesh, copy_->mesh, settings);
   EXPECT_LT(mean_error(part, result.output.forward), 0.03);
-  EXPECT_NEAR(result.part_scale, 1 / 2.5, 0.05);
-  const bool says_which = std::any_of(result.notes.begin(), result.notes.end(), [](const std::string& note) {
+  EXPECT_NEAR(result.quality.part_scale, 1 / 2.5, 0.05);
+  const bool says_which = std::any_of(result.messages.notes.begin(), result.messages.notes.end(), [](const std::string& note) {
     return note.rfind("part method: the ", 0) == 0 && note.find(" map kept") != std::string::npos;
   });
   EXPECT_TRUE(says_which);
-  const bool says_refined = std::any_of(result.notes.begin(), result.notes.end(), [](const std::string& note) {
+  const bool says_refined = std::any_of(result.messages.notes.begin(), result.messages.notes.end(), [](const std::string& note) {
     return note.find("the complete pipeline's map refined as a part's") != std::string::npos;
   });
   EXPECT_TRUE(says_refined);
@@ -281,7 +281,7 @@ TEST_F(PartOfBlob, CompleteShapesStillMatchAsParts) {
   whole.mesh = *full_;
   for (int v = 0; v < full_->num_vertices(); ++v) whole.full_vertex.push_back(v);
   EXPECT_LT(mean_error(whole, result.output.forward), 0.02);
-  EXPECT_GT(result.target_matched_share, 0.95);
+  EXPECT_GT(result.quality.target_matched_share, 0.95);
 }
 
 // The most general setting: both meshes are partial (planes cut at different angles), so
@@ -299,7 +299,7 @@ void PartOf<Subdivisions>::expect_two_partial_meshes_match() {
   const MatchResult result = match_meshes(source.mesh, target.mesh, settings);
   ASSERT_EQ(result.output.forward.size(), source.mesh.vertices.size());
   ASSERT_EQ(result.output.reverse.size(), target.mesh.vertices.size());
-  EXPECT_NEAR(result.part_scale, 1 / 2.5, 0.05);
+  EXPECT_NEAR(result.quality.part_scale, 1 / 2.5, 0.05);
 
   // Scored where the truth exists: source vertices whose image was kept in the target part.
   std::vector<int> target_part_vertex(copy_->mesh.vertices.size(), -1);
@@ -317,11 +317,11 @@ void PartOf<Subdivisions>::expect_two_partial_meshes_match() {
   }
   ASSERT_GT(count, 0);
   EXPECT_LT(sum / count / estimate_geodesic_diameter(geodesics), 0.03);
-  const bool says_how = std::any_of(result.notes.begin(), result.notes.end(), [](const std::string& note) {
+  const bool says_how = std::any_of(result.messages.notes.begin(), result.messages.notes.end(), [](const std::string& note) {
     return note.rfind("ravac: ", 0) == 0 && note.find("consistent triplets voted") != std::string::npos;
   });
   EXPECT_TRUE(says_how);
-  const bool says_which = std::any_of(result.notes.begin(), result.notes.end(), [](const std::string& note) {
+  const bool says_which = std::any_of(result.messages.notes.begin(), result.messages.notes.end(), [](const std::string& note) {
     return note.rfind("ravac method: the ", 0) == 0 && note.find(" map kept") != std::string::npos;
   });
   EXPECT_TRUE(says_which);

@@ -57,7 +57,7 @@ namespace {
 // Complete shapes: level 0, flip tracking, then the C2F dense level or refinement.
 DenseMap match_complete(const PreprocessedShape& source, const PreprocessedShape& target,
                         const MatchSettings& settings, MatchResult& result, const JobControl& control) {
-  StageClock clock(result.timings);
+  StageClock clock(result.timings.stages);
   const int levels = std::min(source.options().decision_level, target.options().decision_level);
   const int total_levels = levels + 1;  // levels 0..K1, then the dense level
 
@@ -72,30 +72,30 @@ DenseMap match_complete(const PreprocessedShape& source, const PreprocessedShape
     throw InputError("too few level-0 samples (" + std::to_string(m) + " on the source, " +
                      std::to_string(m_prime) + " on the target); lower the level-0 radius");
   const int threads = resolve_thread_count(settings.threads);
-  result.level0 = search_level0(sample_distances(source, m), sample_distances(target, m_prime),
+  result.diagnostics.level0.maps = search_level0(sample_distances(source, m), sample_distances(target, m_prime),
                                 settings.max_level0_diso, settings.max_level0_maps, threads);
-  if (result.level0.empty())
+  if (result.diagnostics.level0.maps.empty())
     throw InputError("no level-0 map has D_iso under " + std::to_string(settings.max_level0_diso) +
                      ": the shapes are far from isometric (raise max_level0_diso to try anyway)");
   clock.finish("level0");
 
   // Tracking the N best level-0 maps to level K1, in parallel (each writes its own slot).
-  result.tracked_by_jump_rule = jump_rule_count(result.level0);
+  result.diagnostics.level0.tracked_by_jump_rule = jump_rule_count(result.diagnostics.level0.maps);
   const int tracked_count = std::min<int>(
-      result.level0.size(),
-      std::clamp(result.tracked_by_jump_rule, settings.min_tracked, settings.max_tracked));
-  result.tracked.resize(tracked_count);
+      result.diagnostics.level0.maps.size(),
+      std::clamp(result.diagnostics.level0.tracked_by_jump_rule, settings.min_tracked, settings.max_tracked));
+  result.diagnostics.tracking.maps.resize(tracked_count);
   TrackingOptions tracking = settings.tracking;
   tracking.threads = 1;
   const TrackingPlan plan = plan_tracking(source, m, levels, tracking);
   std::atomic<int> done{0};
   parallel_for(tracked_count, threads, [&](int i, int) {
-    result.tracked[i] = track_map(source, target, plan, result.level0[i], i, tracking, control);
+    result.diagnostics.tracking.maps[i] = track_map(source, target, plan, result.diagnostics.level0.maps[i], i, tracking, control);
     const int finished = ++done;
     control.report({"tracking", levels, total_levels, 0.1 + 0.6 * finished / tracked_count});
   });
-  const std::vector<int> ranked = rank_tracked(result.tracked, settings);
-  result.chosen = ranked.front();
+  const std::vector<int> ranked = rank_tracked(result.diagnostics.tracking.maps, settings);
+  result.diagnostics.tracking.chosen = ranked.front();
   clock.finish("tracking");
 
   DenseMap dense;
@@ -104,25 +104,25 @@ DenseMap match_complete(const PreprocessedShape& source, const PreprocessedShape
     control.report({"dense", total_levels, total_levels, 0.7});
     DenseOptions dense_options = settings.dense;
     dense_options.threads = threads;
-    dense = compute_dense_map(source, target, result.tracked[result.chosen].pairs, dense_options, control);
+    dense = compute_dense_map(source, target, result.diagnostics.tracking.maps[result.diagnostics.tracking.chosen].pairs, dense_options, control);
     clock.finish("dense");
   } else {
     control.report({"refine", total_levels, total_levels, 0.7});
-    RefinedMatch refined = refine_and_choose(source, target, result.tracked, ranked, settings, control);
+    RefinedMatch refined = refine_and_choose(source, target, result.diagnostics.tracking.maps, ranked, settings, control);
     dense = std::move(refined.dense);
-    result.screened = std::move(refined.screened);
-    result.refined = std::move(refined.candidates);
-    result.refined_chosen = refined.chosen;
-    result.refined_why = std::move(refined.why);
-    result.refine_timings = std::move(refined.timings);
+    result.diagnostics.refinement.screened = std::move(refined.screened);
+    result.diagnostics.refinement.candidates = std::move(refined.candidates);
+    result.diagnostics.refinement.chosen = refined.chosen;
+    result.diagnostics.refinement.why = std::move(refined.why);
+    result.timings.refine_steps = std::move(refined.timings);
     if (settings.outlier_repair)
-      result.notes.push_back("outlier repair: " + std::to_string(refined.repair.moved) + " of " +
+      result.messages.notes.push_back("outlier repair: " + std::to_string(refined.repair.moved) + " of " +
                              std::to_string(refined.repair.flagged) + " flagged vertices placed again (" +
                              std::to_string(refined.repair.anchors) + " anchors)");
     if (settings.rigidity.mirror_repair && settings.rigidity.iterations > 0) {
       const MirrorRepair& chosen = refined.mirror_repair_chosen;
       const MirrorRepair& last = refined.mirror_repair;
-      result.notes.push_back(
+      result.messages.notes.push_back(
           "mirror repair of the chosen map: " + std::to_string(chosen.segments) +
           " mirrored segments held at both ends unfolded before its spectral polish (" +
           std::to_string(chosen.reversed_vertices) + " vertices with reversed rings); after it " +
@@ -133,7 +133,7 @@ DenseMap match_complete(const PreprocessedShape& source, const PreprocessedShape
           " (" + std::to_string(last.reversed_vertices) + " vertices with reversed rings)");
     }
     if (settings.refine_passes > 0)
-      result.notes.push_back("the chosen map refined again from itself " + std::to_string(settings.refine_passes) +
+      result.messages.notes.push_back("the chosen map refined again from itself " + std::to_string(settings.refine_passes) +
                              (settings.refine_passes == 1 ? " time" : " times"));
     if (settings.rigidity_final_iterations > 0) {
       char note[160];
@@ -141,9 +141,9 @@ DenseMap match_complete(const PreprocessedShape& source, const PreprocessedShape
                     "final rigidity polish (%d iterations per weight): curvature disagreement %.4f -> %.4f, %s",
                     settings.rigidity_final_iterations, refined.final_polish.curvature_before,
                     refined.final_polish.curvature_after, refined.final_polish.kept ? "kept" : "not kept");
-      result.notes.push_back(note);
+      result.messages.notes.push_back(note);
     }
-    result.chosen = result.refined[result.refined_chosen].tracked_index;
+    result.diagnostics.tracking.chosen = result.diagnostics.refinement.candidates[result.diagnostics.refinement.chosen].tracked_index;
     clock.finish("refine");
   }
   return dense;
@@ -186,7 +186,7 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
   try {
     whole = match_complete(source, target, as_whole, whole_result, share_of(0.5, 0.5));
   } catch (const InputError& e) {
-    result.warnings.push_back(method_name + ": the " + search_name + "'s map kept; the complete pipeline failed: " +
+    result.messages.warnings.push_back(method_name + ": the " + search_name + "'s map kept; the complete pipeline failed: " +
                               e.what());
     return part;
   }
@@ -202,7 +202,7 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
     const PartMapEvidence refined_evidence = measure_part_maps(source, target, {&refined.forward}, threads)[0];
     const bool kept = refined_evidence.orientation >= settings.orientation_threshold &&
                       refined_evidence.curvature < evidence[1].curvature;
-    result.notes.push_back(method_name + ": the complete pipeline's map refined as a part's, curvature disagreement " +
+    result.messages.notes.push_back(method_name + ": the complete pipeline's map refined as a part's, curvature disagreement " +
                            std::to_string(evidence[1].curvature) + " -> " + std::to_string(refined_evidence.curvature) +
                            (kept ? ", kept" : ", not kept"));
     if (kept) {
@@ -228,18 +228,18 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
                           "'s map kept; " + describe(search_name.c_str(), part_evidence) + ", " +
                           describe("complete pipeline", whole_evidence);
   if (!whole_wins) {
-    result.timings.insert(result.timings.end(), whole_result.timings.begin(), whole_result.timings.end());
-    result.notes.push_back(why);
+    result.timings.stages.insert(result.timings.stages.end(), whole_result.timings.stages.begin(), whole_result.timings.stages.end());
+    result.messages.notes.push_back(why);
     return part;
   }
   add_part_reverse_map(source, target, whole_evidence.scale, whole);
-  whole_result.timings.insert(whole_result.timings.begin(), result.timings.begin(), result.timings.end());
-  whole_result.notes.insert(whole_result.notes.begin(), result.notes.begin(), result.notes.end());
-  whole_result.warnings.insert(whole_result.warnings.begin(), result.warnings.begin(), result.warnings.end());
-  whole_result.notes.push_back(why);
-  whole_result.part_scale = whole_evidence.scale;
-  whole_result.part_candidates = std::move(result.part_candidates);
-  for (PartCandidate& candidate : whole_result.part_candidates) candidate.kept = false;
+  whole_result.timings.stages.insert(whole_result.timings.stages.begin(), result.timings.stages.begin(), result.timings.stages.end());
+  whole_result.messages.notes.insert(whole_result.messages.notes.begin(), result.messages.notes.begin(), result.messages.notes.end());
+  whole_result.messages.warnings.insert(whole_result.messages.warnings.begin(), result.messages.warnings.begin(), result.messages.warnings.end());
+  whole_result.messages.notes.push_back(why);
+  whole_result.quality.part_scale = whole_evidence.scale;
+  whole_result.diagnostics.part.candidates = std::move(result.diagnostics.part.candidates);
+  for (PartCandidate& candidate : whole_result.diagnostics.part.candidates) candidate.kept = false;
   result = std::move(whole_result);
   return whole;
 }
@@ -265,8 +265,8 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
   out.forward = forward_in_files(dense.forward);
   out.forward_confidence.resize(sc.input_to_clean.size());
   for (size_t i = 0; i < sc.input_to_clean.size(); ++i) out.forward_confidence[i] = dense.forward_diso[sc.input_to_clean[i]];
-  for (DenseCandidate& candidate : result.refined) candidate.forward = forward_in_files(candidate.forward);
-  for (PartCandidate& candidate : result.part_candidates) candidate.forward = forward_in_files(candidate.forward);
+  for (DenseCandidate& candidate : result.diagnostics.refinement.candidates) candidate.forward = forward_in_files(candidate.forward);
+  for (PartCandidate& candidate : result.diagnostics.part.candidates) candidate.forward = forward_in_files(candidate.forward);
   out.reverse.resize(tc.input_to_clean.size());
   out.reverse_confidence.resize(tc.input_to_clean.size());
   for (size_t i = 0; i < tc.input_to_clean.size(); ++i) {
@@ -274,48 +274,31 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
     out.reverse[i] = dense.reverse[c] < 0 ? -1 : sc.clean_to_input[dense.reverse[c]];
     out.reverse_confidence[i] = dense.reverse_diso[c];
   }
-  if (result.refined.empty()) {
+  if (result.diagnostics.refinement.candidates.empty()) {
     double sum = 0, worst = 0;
     for (float d : dense.forward_diso) sum += d, worst = std::max(worst, static_cast<double>(d));
-    result.diso = sum / std::max<size_t>(1, dense.forward_diso.size());
-    result.diso_max = worst;
+    result.quality.diso = sum / std::max<size_t>(1, dense.forward_diso.size());
+    result.quality.diso_max = worst;
   } else {  // refined: the winner's distortion between coarse samples, measured exactly
-    result.diso = result.refined[result.refined_chosen].evidence.distortion;
-    result.diso_max = result.refined[result.refined_chosen].evidence.distortion_max;
+    result.quality.diso = result.diagnostics.refinement.candidates[result.diagnostics.refinement.chosen].evidence.distortion;
+    result.quality.diso_max = result.diagnostics.refinement.candidates[result.diagnostics.refinement.chosen].evidence.distortion_max;
   }
   // Refined: measured already while choosing.
-  result.dense_orientation = result.refined.empty()
+  result.quality.orientation = result.diagnostics.refinement.candidates.empty()
                                  ? dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
                                                              target.normals(), dense.forward)
-                                 : result.refined[result.refined_chosen].evidence.orientation;
+                                 : result.diagnostics.refinement.candidates[result.diagnostics.refinement.chosen].evidence.orientation;
   if (settings.method != MatchMethod::kFull) {
-    result.target_matched_share = matched_area_share(vertex_areas(target.mesh()), dense.reverse);
+    result.quality.target_matched_share = matched_area_share(vertex_areas(target.mesh()), dense.reverse);
     // Kappa in the files' units: each mesh was normalised by its own power of two.
-    result.part_scale = length_ratio_in_files(result.part_scale, sc.normalisation, tc.normalisation);
-    for (PartCandidate& candidate : result.part_candidates)
+    result.quality.part_scale = length_ratio_in_files(result.quality.part_scale, sc.normalisation, tc.normalisation);
+    for (PartCandidate& candidate : result.diagnostics.part.candidates)
       candidate.scale = length_ratio_in_files(candidate.scale, sc.normalisation, tc.normalisation);
   }
-  for (const auto& repair : sc.repairs) result.warnings.push_back("source: " + repair);
-  for (const auto& repair : tc.repairs) result.warnings.push_back("target: " + repair);
+  for (const auto& repair : sc.repairs) result.messages.warnings.push_back("source: " + repair);
+  for (const auto& repair : tc.repairs) result.messages.warnings.push_back("target: " + repair);
   control.report({"done", 1, 1, 1.0});
   return result;
-}
-
-MatchSummary MatchResult::summary() const {
-  MatchSummary s;
-  s.source_vertices = static_cast<int>(output.forward.size());
-  s.target_vertices = static_cast<int>(output.reverse.size());
-  s.diso = diso;
-  s.diso_max = diso_max;
-  s.dense_orientation = dense_orientation;
-  s.level0_maps = static_cast<int>(level0.size());
-  s.tracked_maps = static_cast<int>(tracked.size());
-  s.chosen_level0_rank = tracked.empty() ? 0 : tracked[chosen].level0_rank;
-  s.timings = timings;
-  // The API has one list: warnings first.
-  s.notes = warnings;
-  s.notes.insert(s.notes.end(), notes.begin(), notes.end());
-  return s;
 }
 
 }  // namespace isocorr

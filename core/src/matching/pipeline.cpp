@@ -67,7 +67,7 @@ MatchResult run_match(ShapeProvider& shapes, const MatchSettings& settings, cons
     control.report(scaled);
   };
   MatchResult result = match_shapes(*source, *target, settings, match_control);
-  result.timings.insert(result.timings.begin(), timings.begin(), timings.end());
+  result.timings.stages.insert(result.timings.stages.begin(), timings.begin(), timings.end());
   result.output.report_json = match_report_json(result, settings);
   return result;
 }

@@ -16,33 +16,33 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
   report["settings"] = settings_to_json(settings);
   json timings = json::object();
   double total = 0;
-  for (const auto& t : result.timings) timings[t.stage] = t.seconds, total += t.seconds;
+  for (const auto& t : result.timings.stages) timings[t.stage] = t.seconds, total += t.seconds;
   timings["total"] = total;
   report["timings_seconds"] = timings;
   // The refine stage's steps, apart: they are part of its time, not added to the total.
-  if (!result.refine_timings.empty()) {
+  if (!result.timings.refine_steps.empty()) {
     json steps = json::object();
-    for (const auto& t : result.refine_timings) steps[t.stage] = t.seconds;
+    for (const auto& t : result.timings.refine_steps) steps[t.stage] = t.seconds;
     report["refine_steps_seconds"] = steps;
   }
 
   json level0 = json::array();
-  const size_t shown = std::min<size_t>(result.level0.size(), 20);
+  const size_t shown = std::min<size_t>(result.diagnostics.level0.maps.size(), 20);
   for (size_t i = 0; i < shown; ++i)
-    level0.push_back({{"rank", i}, {"diso", result.level0[i].diso}, {"target_of", result.level0[i].target_of}});
-  report["level0"] = {{"maps_under_threshold", result.level0.size()}, {"best", level0},
-                      {"tracked_by_jump_rule", result.tracked_by_jump_rule}};
+    level0.push_back({{"rank", i}, {"diso", result.diagnostics.level0.maps[i].diso}, {"target_of", result.diagnostics.level0.maps[i].target_of}});
+  report["level0"] = {{"maps_under_threshold", result.diagnostics.level0.maps.size()}, {"best", level0},
+                      {"tracked_by_jump_rule", result.diagnostics.level0.tracked_by_jump_rule}};
   json tracked = json::array();
-  for (const auto& t : result.tracked)
+  for (const auto& t : result.diagnostics.tracking.maps)
     tracked.push_back({{"level0_rank", t.level0_rank}, {"level0_diso", t.level0_diso},
                        {"pairs", t.pairs.size()}, {"diso", t.diso}, {"orientation", t.orientation}});
   report["tracked"] = tracked;
-  report["chosen"] = result.chosen;
-  if (!result.refined.empty()) {
+  report["chosen"] = result.diagnostics.tracking.chosen;
+  if (!result.diagnostics.refinement.candidates.empty()) {
     json refined = json::array();
-    for (const auto& c : result.refined)
+    for (const auto& c : result.diagnostics.refinement.candidates)
       refined.push_back({{"tracked", c.tracked_index},
-                         {"level0_rank", result.tracked[c.tracked_index].level0_rank},
+                         {"level0_rank", result.diagnostics.tracking.maps[c.tracked_index].level0_rank},
                          {"orientation", c.evidence.orientation},
                          {"neighbourhood_orientation", c.evidence.neighbourhood_orientation},
                          {"signature_disagreement", c.evidence.signature_disagreement},
@@ -54,8 +54,8 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
                          {"mirrored", c.mirrored},
                          {"finished", c.finished}});
     json screened = json::array();
-    for (const auto& s : result.screened) {
-      const bool went_on = std::any_of(result.refined.begin(), result.refined.end(),
+    for (const auto& s : result.diagnostics.refinement.screened) {
+      const bool went_on = std::any_of(result.diagnostics.refinement.candidates.begin(), result.diagnostics.refinement.candidates.end(),
                                        [&](const DenseCandidate& c) { return c.tracked_index == s.tracked_index; });
       screened.push_back({{"tracked", s.tracked_index},
                           {"orientation", s.orientation},
@@ -64,11 +64,11 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
     }
     report["refined"] = {{"screened", screened},
                          {"candidates", refined},
-                         {"chosen", result.refined_chosen},
-                         {"why", result.refined_why}};
+                         {"chosen", result.diagnostics.refinement.chosen},
+                         {"why", result.diagnostics.refinement.why}};
   }
-  report["final"] = {{"diso", result.diso}, {"diso_max", result.diso_max},
-                     {"orientation", result.dense_orientation},
+  report["final"] = {{"diso", result.quality.diso}, {"diso_max", result.quality.diso_max},
+                     {"orientation", result.quality.orientation},
                      {"source_vertices", result.output.forward.size()},
                      {"target_vertices", result.output.reverse.size()}};
   if (settings.method != MatchMethod::kFull) {
@@ -76,7 +76,7 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
     for (int s : result.output.reverse) matched += s >= 0;
     // The reverse map has -1 where the target has no counterpart in the part.
     json candidates = json::array();
-    for (const PartCandidate& c : result.part_candidates)
+    for (const PartCandidate& c : result.diagnostics.part.candidates)
       candidates.push_back({{"orientation", c.orientation},
                             {"curvature_disagreement", c.curvature},
                             {"covered_share", c.covered},
@@ -84,13 +84,13 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
                             {"distortion", c.distortion},
                             {"extremity_distortion", c.level0_distortion},
                             {"finalist", c.finalist}});
-    report["part"] = {{"scale", result.part_scale},
-                      {"target_matched_share", result.target_matched_share},
+    report["part"] = {{"scale", result.quality.part_scale},
+                      {"target_matched_share", result.quality.target_matched_share},
                       {"target_vertices_matched", matched},
                       {"search_candidates", candidates}};
   }
-  report["warnings"] = result.warnings;
-  report["notes"] = result.notes;
+  report["warnings"] = result.messages.warnings;
+  report["notes"] = result.messages.notes;
   return report.dump(2);
 }
 

@@ -535,7 +535,7 @@ std::vector<ExtremityMap> part_search_candidates(const PartGeometry& part, const
         rank_extremity_maps(part, extremities, search_targets(target, finer_count), min_scale, kScreenedMaps, threads);
   if (all_maps.empty())
     throw InputError("no extremity map is consistent with the part's area: is the source a part of the target?");
-  for (const auto& map : all_maps) result.level0.push_back({map.target_samples, map.distortion});
+  for (const auto& map : all_maps) result.diagnostics.level0.maps.push_back({map.target_samples, map.distortion});
 
   // Screening: with few extremities, or distances all lengthened by the cut, many
   // extremity maps are equally consistent; matching the first levels' samples (steps <= 2)
@@ -608,7 +608,7 @@ void polish_part_map(const PreprocessedShape& source, const PreprocessedShape& t
 
 DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& target, const MatchSettings& settings,
                     MatchResult& result, const JobControl& control) {
-  StageClock clock(result.timings);
+  StageClock clock(result.timings.stages);
   const PartGeometry part(source, target);
   const int threads = resolve_thread_count(settings.threads);
 
@@ -616,10 +616,10 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   std::vector<int> ranks;
   std::vector<ExtremityMap> maps;
   if (settings.method == MatchMethod::kRavac) {
-    maps = ravac_extremity_maps(part, settings.part_candidates, threads, result.notes, control);
+    maps = ravac_extremity_maps(part, settings.part_candidates, threads, result.messages.notes, control);
     for (size_t i = 0; i < maps.size(); ++i) {
       ranks.push_back(static_cast<int>(i));
-      result.level0.push_back({maps[i].target_samples, maps[i].distortion});
+      result.diagnostics.level0.maps.push_back({maps[i].target_samples, maps[i].distortion});
     }
     clock.finish("ravac");
   } else {
@@ -628,12 +628,12 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   }
 
   control.report({"part-tracking", 1, 2, 0.3});
-  result.tracked.resize(maps.size());
+  result.diagnostics.tracking.maps.resize(maps.size());
   std::vector<double> scales(maps.size());
   std::atomic<int> done{0};
   const int last_step = 2 * source.options().decision_level;
   parallel_for(static_cast<int>(maps.size()), threads, [&](int i, int) {
-    result.tracked[i] = grow_sample_map(part, maps[i], ranks[i], last_step, scales[i], control);
+    result.diagnostics.tracking.maps[i] = grow_sample_map(part, maps[i], ranks[i], last_step, scales[i], control);
     control.report({"part-tracking", 1, 2, 0.3 + 0.4 * (++done) / maps.size()});
   });
   clock.finish("part-tracking");
@@ -651,14 +651,14 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
     if (!orders.count(map.source_samples.front()))
       orders[map.source_samples.front()] = breadth_first_order(source, source.sample_vertex(map.source_samples.front()));
   auto visit_order = [&](const ExtremityMap& map) -> const VisitOrder& { return orders.at(map.source_samples.front()); };
-  auto first_image = [&](int i) { return target.sample_vertex(result.tracked[i].pairs.front().target_sample); };
+  auto first_image = [&](int i) { return target.sample_vertex(result.diagnostics.tracking.maps[i].pairs.front().target_sample); };
   std::vector<double> covered(maps.size(), std::numeric_limits<double>::quiet_NaN());
   const std::vector<double> target_vertex_areas = vertex_areas(target.mesh());
   const PartCurvature part_curvature(part, scales, threads);
   // The evidence the choice weighs, of candidate i's dense map (the covered share needs a
   // map on every vertex).
   auto measure = [&](int i, bool with_covered_share) {
-    result.tracked[i].orientation = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
+    result.diagnostics.tracking.maps[i].orientation = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
                                                                 target.normals(), dense[i].forward);
     curvature[i] = part_curvature.disagreement(dense[i].forward, scales[i]);
     if (with_covered_share) covered[i] = covered_share(source, target, target_vertex_areas, scales[i], dense[i]);
@@ -672,14 +672,14 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   // -> 17.9-18.6 s on the 28K cat, 14.0-15.8 -> 11.0-11.8 s on the 16K centaur.
   const std::vector<char> wanted = finish ? rough_map_vertices(source) : std::vector<char>();
   parallel_for(static_cast<int>(maps.size()), threads, [&](int i, int) {
-    dense[i] = dense_part_map(part, result.tracked[i], sample_anchors(target, result.tracked[i].pairs), scales[i],
+    dense[i] = dense_part_map(part, result.diagnostics.tracking.maps[i], sample_anchors(target, result.diagnostics.tracking.maps[i].pairs), scales[i],
                               visit_order(maps[i]), wanted, control);
     measure(i, !finish);
     if (finish) fill_from_parents(visit_order(maps[i]), first_image(i), dense[i].forward);  // for the report
   });
   // The finalists, made on every vertex and finished, are measured again and compete: a
   // rough map's curvature carries a sample spacing's worth of noise.
-  const std::vector<int> finalists = part_finalists(result.tracked, curvature, settings.orientation_threshold,
+  const std::vector<int> finalists = part_finalists(result.diagnostics.tracking.maps, curvature, settings.orientation_threshold,
                                                     finish ? kFinalists : static_cast<int>(maps.size()));
   // Half the winner's iterations: the comparison needs the sample noise taken out, not the
   // slide converged. Against all of them: the same result on 59 of the part benchmark's 60
@@ -706,7 +706,7 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   if (finish)
     parallel_for(static_cast<int>(finalists.size()), threads, [&](int k, int) {
       const int i = finalists[k];
-      dense[i] = dense_part_map(part, result.tracked[i], sample_anchors(target, result.tracked[i].pairs), scales[i],
+      dense[i] = dense_part_map(part, result.diagnostics.tracking.maps[i], sample_anchors(target, result.diagnostics.tracking.maps[i].pairs), scales[i],
                                 visit_order(maps[i]), {}, control);
       if (refine_if_better(i, 1, dense[i].forward)) refined_maps[i] = dense[i].forward;
       polish_part_map(source, target, finalist_polish, scales[i], 1, dense[i], control);  // side by side
@@ -726,33 +726,33 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   auto least_curvature = [&](double covered_at_least) {
     int best = -1;
     for (int i : finalists)
-      if (result.tracked[i].orientation >= settings.orientation_threshold && covered[i] >= covered_at_least &&
+      if (result.diagnostics.tracking.maps[i].orientation >= settings.orientation_threshold && covered[i] >= covered_at_least &&
           (best < 0 || curvature[i] < curvature[best]))
         best = i;
     return best;
   };
   int best = least_curvature(min_covered);
   if (best < 0) best = least_curvature(0);
-  result.chosen = best >= 0 ? best : rank_tracked(result.tracked, settings).front();
+  result.diagnostics.tracking.chosen = best >= 0 ? best : rank_tracked(result.diagnostics.tracking.maps, settings).front();
   // The candidates' maps are done with: the winner is made again from vertex-accurate anchors.
   for (int i = 0; i < static_cast<int>(maps.size()); ++i) {
     const bool finalist = finish && std::find(finalists.begin(), finalists.end(), i) != finalists.end();
-    result.part_candidates.push_back({result.tracked[i].orientation, curvature[i], covered[i], scales[i],
-                                      result.tracked[i].diso, maps[i].distortion, finalist, i == result.chosen,
+    result.diagnostics.part.candidates.push_back({result.diagnostics.tracking.maps[i].orientation, curvature[i], covered[i], scales[i],
+                                      result.diagnostics.tracking.maps[i].diso, maps[i].distortion, finalist, i == result.diagnostics.tracking.chosen,
                                       std::move(dense[i].forward)});
   }
-  const TrackedMap& winner = result.tracked[result.chosen];
+  const TrackedMap& winner = result.diagnostics.tracking.maps[result.diagnostics.tracking.chosen];
   DenseMap chosen;
-  if (!refined_maps[result.chosen].empty()) {
+  if (!refined_maps[result.diagnostics.tracking.chosen].empty()) {
     // Its refined map is already finer than one made from vertex-accurate anchors.
-    chosen.forward = std::move(refined_maps[result.chosen]);
-    result.notes.push_back("part search: the chosen map is its finalist's spectral refinement");
+    chosen.forward = std::move(refined_maps[result.diagnostics.tracking.chosen]);
+    result.messages.notes.push_back("part search: the chosen map is its finalist's spectral refinement");
   } else {
-    const TargetAnchors anchors = vertex_accurate_anchors(part, winner.pairs, scales[result.chosen], threads, control);
-    chosen = dense_part_map(part, winner, anchors, scales[result.chosen], visit_order(maps[result.chosen]), {}, control);
+    const TargetAnchors anchors = vertex_accurate_anchors(part, winner.pairs, scales[result.diagnostics.tracking.chosen], threads, control);
+    chosen = dense_part_map(part, winner, anchors, scales[result.diagnostics.tracking.chosen], visit_order(maps[result.diagnostics.tracking.chosen]), {}, control);
     if (finish) {
-      const bool refined = refine_if_better(result.chosen, threads, chosen.forward);
-      result.notes.push_back(std::string("part search: the chosen map made from vertex-accurate anchors, its spectral "
+      const bool refined = refine_if_better(result.diagnostics.tracking.chosen, threads, chosen.forward);
+      result.messages.notes.push_back(std::string("part search: the chosen map made from vertex-accurate anchors, its spectral "
                                          "refinement ") +
                              (refined ? "kept" : "dropped (its curvature agreed less, or it lost handedness)"));
     }
@@ -762,10 +762,10 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
   // takes out (isocorr-bench-partial: Kim error of right maps 0.052 -> 0.050, and a map
   // compared against the complete pipeline's polished one is compared like for like:
   // faust 002 -> 007's 46% ball now keeps the part search's right map).
-  if (finish) polish_part_map(source, target, settings.rigidity, scales[result.chosen], threads, chosen, control);
-  add_part_reverse_map(source, target, scales[result.chosen], chosen);
+  if (finish) polish_part_map(source, target, settings.rigidity, scales[result.diagnostics.tracking.chosen], threads, chosen, control);
+  add_part_reverse_map(source, target, scales[result.diagnostics.tracking.chosen], chosen);
   clock.finish("part-dense");
-  result.part_scale = scales[result.chosen];
+  result.quality.part_scale = scales[result.diagnostics.tracking.chosen];
   return chosen;
 }
 
