@@ -10,7 +10,7 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.h"
-#include "isocorr/matching/pipeline.h"
+#include "isocorr/pipeline/run_match.h"
 #include "isocorr/output/colour_transfer.h"
 #include "isocorr/output/map_files.h"
 #include "isocorr/output/match_report.h"

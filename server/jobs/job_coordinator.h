@@ -9,7 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "isocorr/matching/matcher.h"
+#include "isocorr/output/match_result.h"
+#include "isocorr/settings/match_settings.h"
 #include "service_error.h"
 #include "storage/job_record.h"
 #include "storage/mesh_repository.h"

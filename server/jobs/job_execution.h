@@ -4,7 +4,7 @@
 
 #include <functional>
 
-#include "isocorr/matching/pipeline.h"
+#include "isocorr/pipeline/run_match.h"
 #include "jobs/shape_cache.h"
 #include "storage/job_record.h"
 #include "service_error.h"

@@ -6,7 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "isocorr/matching/matcher.h"
+#include "isocorr/output/match_result.h"
+#include "isocorr/settings/match_settings.h"
 
 namespace isocorr::server {
 

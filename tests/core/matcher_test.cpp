@@ -1,6 +1,6 @@
 // The whole engine on a shape with a known answer: an asymmetric mesh against a rotated,
 // scaled, renumbered copy of itself must give the permutation back.
-#include "isocorr/matching/pipeline.h"
+#include "isocorr/pipeline/run_match.h"
 
 #include <atomic>
 

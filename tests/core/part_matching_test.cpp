@@ -9,7 +9,7 @@
 #include <string>
 
 #include "isocorr/geodesic/geodesic_diameter.h"
-#include "isocorr/matching/pipeline.h"
+#include "isocorr/pipeline/run_match.h"
 #include "isocorr/mesh/procedural_meshes.h"
 #include "isocorr/partial/partial_cut.h"
 #include "isocorr/partial/partial_refinement.h"

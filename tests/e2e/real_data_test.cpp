@@ -7,7 +7,7 @@
 #include "isocorr/eval/ground_truth.h"
 #include "isocorr/eval/metrics.h"
 #include "isocorr/geodesic/geodesic_diameter.h"
-#include "isocorr/matching/pipeline.h"
+#include "isocorr/pipeline/run_match.h"
 #include "isocorr/mesh/mesh_io.h"
 #include "isocorr/partial/partial_cut.h"
 

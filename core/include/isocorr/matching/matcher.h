@@ -1,5 +1,6 @@
-// Matching two preprocessed shapes: level-0 search -> flip tracking -> choice -> dense map.
-// pipeline.h wraps it with the preprocessing; most callers want that.
+// Matching two complete preprocessed shapes: level-0 search -> flip tracking -> choice ->
+// the C2F dense level or the refinement. pipeline/match_shapes.h chooses between this and
+// the part methods; pipeline/run_match.h adds the preprocessing, and most callers want that.
 #pragma once
 
 #include <string>
@@ -25,10 +26,10 @@ Eigen::MatrixXd sample_distances(const PreprocessedShape& shape, const std::vect
 // all indices, best first.
 std::vector<int> rank_tracked(const std::vector<TrackedMap>& tracked, const MatchSettings& settings);
 
-// Matches two preprocessed shapes. `settings` must have passed validate() (run_match
-// does that once). Deterministic for given inputs and settings. Reports progress as
-// fractions of the match alone.
-MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShape& target,
-                         const MatchSettings& settings, const JobControl& control = {});
+// The dense map (clean numbering) of two complete shapes. Fills `result`'s diagnostics,
+// stage timings and notes. `settings` must have passed validate(). Reports progress as
+// fractions of this match alone.
+DenseMap match_whole(const PreprocessedShape& source, const PreprocessedShape& target, const MatchSettings& settings,
+                     MatchResult& result, const JobControl& control);
 
 }  // namespace isocorr

@@ -4,7 +4,8 @@
 
 #include <string>
 
-#include "isocorr/matching/matcher.h"
+#include "isocorr/output/match_result.h"
+#include "isocorr/settings/match_settings.h"
 
 namespace isocorr {
 

@@ -1,9 +1,10 @@
-#include "isocorr/matching/pipeline.h"
+#include "isocorr/pipeline/run_match.h"
 
 #include <future>
 #include <string>
 
 #include "isocorr/output/match_report.h"
+#include "isocorr/pipeline/match_shapes.h"
 
 namespace isocorr {
 namespace {

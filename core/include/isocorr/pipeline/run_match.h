@@ -8,7 +8,9 @@
 #include <mutex>
 #include <string>
 
-#include "isocorr/matching/matcher.h"
+#include "isocorr/output/match_result.h"
+#include "isocorr/settings/match_settings.h"
+#include "isocorr/shape/preprocessed_shape.h"
 
 namespace isocorr {
 
