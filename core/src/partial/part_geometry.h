@@ -1,5 +1,5 @@
 // Distances between two shapes either of which may be partial, and what they are worth:
-// shared by the part search (part_matching.cpp) and RAVAC (ravac.cpp).
+// shared by the part search (part_*.cpp) and RAVAC (ravac.cpp).
 //
 // Removing surface can only lengthen geodesics, and only those whose path could touch the
 // cut: a distance g(x, y) on a shape with a boundary is the complete shape's when

@@ -21,6 +21,9 @@
 //    descent of their weighted mismatch; a target vertex gets a source vertex only where
 //    the part's image covers it (-1 elsewhere).
 //
+// Steps 1-2 live in part_extremity_search.cpp, 3 in part_growth.cpp, 4 in part_dense_map.cpp,
+// the evidence in part_evidence.cpp, and the stages in order in part_matching.cpp.
+//
 // Boundary awareness: removing surface can only lengthen geodesics, and only those whose
 // path could touch the cut: a source distance g(x, y) is the full shape's when
 // g(x, y) < b(x) + b(y), b = distance to the boundary. Other distances are upper bounds:
@@ -28,7 +31,10 @@
 // down-weighted by a guessed band: every term is either exact or one-sided.
 #pragma once
 
-#include "isocorr/matching/matcher.h"
+#include "isocorr/matching/dense_map.h"
+#include "isocorr/output/match_result.h"
+#include "isocorr/settings/match_settings.h"
+#include "isocorr/shape/preprocessed_shape.h"
 
 namespace isocorr {
 

@@ -33,7 +33,7 @@ struct MatchSettings {
   // Part matching: source extremities matched combinatorially (paper: M = 5), and the best
   // extremity maps grown to sample maps, one of which is chosen (symmetric flips).
   int part_extremities = 5;
-  // Half by extremity distortion, half by screening (part_matching.cpp). Larger pools hold
+  // Half by extremity distortion, half by screening (part_extremity_search.cpp). Larger pools hold
   // right maps more often; once the part's curvature was compared at the whole's lengths
   // (part_geometry.h) the choice found them: 32 -> 64 took the benchmark's cuts from 23 to
   // 25 of 36 and the cuts of sets never used for a choice (faust_reg6890,
