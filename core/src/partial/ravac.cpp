@@ -248,6 +248,88 @@ ExtremityMap to_extremity_map(const Points& s, const Points& t, const Eigen::Mat
   return result;
 }
 
+// Rank and qualify: the pairs (source point, target point) among the kQualifiedPerPoint
+// best-ranked of either point.
+std::vector<Pair> qualified_pairs(const Points& s, const Points& t) {
+  const int ns = static_cast<int>(s.samples.size()), nt = static_cast<int>(t.samples.size());
+  std::vector<std::vector<double>> ranked(ns, std::vector<double>(nt));
+  for (int i = 0; i < ns; ++i)
+    for (int j = 0; j < nt; ++j) ranked[i][j] = ranked_distortion(s, t, i, j);
+  std::vector<std::vector<char>> qualified(ns, std::vector<char>(nt, 0));
+  std::vector<int> order;
+  for (int i = 0; i < ns; ++i) {
+    order.resize(nt);
+    for (int j = 0; j < nt; ++j) order[j] = j;
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return ranked[i][a] < ranked[i][b]; });
+    for (int q = 0; q < std::min(nt, kQualifiedPerPoint); ++q) qualified[i][order[q]] = 1;
+  }
+  for (int j = 0; j < nt; ++j) {
+    order.resize(ns);
+    for (int i = 0; i < ns; ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return ranked[a][j] < ranked[b][j]; });
+    for (int q = 0; q < std::min(ns, kQualifiedPerPoint); ++q) qualified[order[q]][j] = 1;
+  }
+  std::vector<Pair> pairs;
+  for (int i = 0; i < ns; ++i)
+    for (int j = 0; j < nt; ++j)
+      if (qualified[i][j]) pairs.push_back({i, j});
+  return pairs;
+}
+
+// Vote: every triplet of qualified pairs with distinct points on both sides and a
+// consistent scale votes for its pairs; `votes` gets each pair's total.
+std::vector<Triplet> voted_triplets(const PartGeometry& geometry, const Points& s, const Points& t,
+                                    const std::vector<Pair>& pairs, int threads,
+                                    std::vector<std::vector<double>>& votes, const JobControl& control) {
+  std::vector<Triplet> triplets;
+  const int np = static_cast<int>(pairs.size());
+  for (int a = 0; a < np; ++a)
+    for (int b = a + 1; b < np; ++b)
+      for (int c = b + 1; c < np; ++c) {
+        const Pair &p = pairs[a], &q = pairs[b], &r = pairs[c];
+        if (p.source == q.source || p.source == r.source || q.source == r.source || p.target == q.target ||
+            p.target == r.target || q.target == r.target)
+          continue;
+        Triplet triplet;
+        triplet.pairs[0] = p, triplet.pairs[1] = q, triplet.pairs[2] = r;
+        if (triplet_scale(s, t, triplet)) triplets.push_back(triplet);
+      }
+  if (triplets.empty()) throw InputError("ravac: no triplet of qualified extremity matches is consistent");
+  parallel_for(static_cast<int>(triplets.size()), threads, [&](int k, int) {
+    if (k % 64 == 0) control.check_cancelled();
+    vote_triplet(geometry, s, t, triplets[k]);
+  });
+  votes.assign(s.samples.size(), std::vector<double>(t.samples.size(), 0));
+  for (const Triplet& triplet : triplets)  // in order: the sums do not depend on the threads
+    for (int a = 0; a < 3; ++a) votes[triplet.pairs[a].source][triplet.pairs[a].target] += triplet.vote[a];
+  return triplets;
+}
+
+// Combine, then the best-supported triplets (their pairs' total votes) not already within a
+// map, up to `wanted` maps; `combined` gets the number of combined maps.
+std::vector<PointMap> combined_maps(const std::vector<std::vector<double>>& votes, const std::vector<Triplet>& triplets,
+                                    int wanted, size_t& combined) {
+  std::vector<PointMap> maps = combine(votes);
+  combined = maps.size();
+  auto support = [&](const Triplet& x) {
+    double sum = 0;
+    for (const Pair& p : x.pairs) sum += votes[p.source][p.target];
+    return sum;
+  };
+  std::vector<int> by_support(triplets.size());
+  for (size_t k = 0; k < triplets.size(); ++k) by_support[k] = static_cast<int>(k);
+  std::stable_sort(by_support.begin(), by_support.end(),
+                   [&](int a, int b) { return support(triplets[a]) > support(triplets[b]); });
+  for (const int k : by_support) {
+    if (static_cast<int>(maps.size()) >= wanted) break;
+    const PointMap triplet(std::begin(triplets[k].pairs), std::end(triplets[k].pairs));
+    if (std::none_of(maps.begin(), maps.end(), [&](const PointMap& m) { return contains_all(m, triplet); }))
+      maps.push_back(triplet);
+  }
+  if (static_cast<int>(maps.size()) > wanted) maps.resize(wanted);
+  return maps;
+}
+
 }  // namespace
 
 std::vector<ExtremityMap> ravac_extremity_maps(const PartGeometry& geometry, int wanted, int threads,
@@ -270,71 +352,11 @@ std::vector<ExtremityMap> ravac_extremity_maps(const PartGeometry& geometry, int
   const int ns = static_cast<int>(s.samples.size()), nt = static_cast<int>(t.samples.size());
   if (ns < 3 || nt < 3) throw InputError("ravac: each shape needs 3 samples away from its boundary");
 
-  // Rank and qualify.
-  std::vector<std::vector<double>> ranked(ns, std::vector<double>(nt));
-  for (int i = 0; i < ns; ++i)
-    for (int j = 0; j < nt; ++j) ranked[i][j] = ranked_distortion(s, t, i, j);
-  std::vector<std::vector<char>> qualified(ns, std::vector<char>(nt, 0));
-  std::vector<int> order;
-  for (int i = 0; i < ns; ++i) {
-    order.resize(nt);
-    for (int j = 0; j < nt; ++j) order[j] = j;
-    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return ranked[i][a] < ranked[i][b]; });
-    for (int q = 0; q < std::min(nt, kQualifiedPerPoint); ++q) qualified[i][order[q]] = 1;
-  }
-  for (int j = 0; j < nt; ++j) {
-    order.resize(ns);
-    for (int i = 0; i < ns; ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return ranked[a][j] < ranked[b][j]; });
-    for (int q = 0; q < std::min(ns, kQualifiedPerPoint); ++q) qualified[order[q]][j] = 1;
-  }
-  std::vector<Pair> pairs;
-  for (int i = 0; i < ns; ++i)
-    for (int j = 0; j < nt; ++j)
-      if (qualified[i][j]) pairs.push_back({i, j});
-
-  // Vote.
-  std::vector<Triplet> triplets;
-  const int np = static_cast<int>(pairs.size());
-  for (int a = 0; a < np; ++a)
-    for (int b = a + 1; b < np; ++b)
-      for (int c = b + 1; c < np; ++c) {
-        const Pair &p = pairs[a], &q = pairs[b], &r = pairs[c];
-        if (p.source == q.source || p.source == r.source || q.source == r.source || p.target == q.target ||
-            p.target == r.target || q.target == r.target)
-          continue;
-        Triplet triplet;
-        triplet.pairs[0] = p, triplet.pairs[1] = q, triplet.pairs[2] = r;
-        if (triplet_scale(s, t, triplet)) triplets.push_back(triplet);
-      }
-  if (triplets.empty()) throw InputError("ravac: no triplet of qualified extremity matches is consistent");
-  parallel_for(static_cast<int>(triplets.size()), threads, [&](int k, int) {
-    if (k % 64 == 0) control.check_cancelled();
-    vote_triplet(geometry, s, t, triplets[k]);
-  });
-  std::vector<std::vector<double>> votes(ns, std::vector<double>(nt, 0));
-  for (const Triplet& triplet : triplets)  // in order: the sums do not depend on the threads
-    for (int a = 0; a < 3; ++a) votes[triplet.pairs[a].source][triplet.pairs[a].target] += triplet.vote[a];
-
-  // Combine, then the best-supported triplets: their pairs' total votes.
-  std::vector<PointMap> maps = combine(votes);
-  const size_t combined = maps.size();
-  auto support = [&](const Triplet& x) {
-    double sum = 0;
-    for (const Pair& p : x.pairs) sum += votes[p.source][p.target];
-    return sum;
-  };
-  std::vector<int> by_support(triplets.size());
-  for (size_t k = 0; k < triplets.size(); ++k) by_support[k] = static_cast<int>(k);
-  std::stable_sort(by_support.begin(), by_support.end(),
-                   [&](int a, int b) { return support(triplets[a]) > support(triplets[b]); });
-  for (const int k : by_support) {
-    if (static_cast<int>(maps.size()) >= wanted) break;
-    const PointMap triplet(std::begin(triplets[k].pairs), std::end(triplets[k].pairs));
-    if (std::none_of(maps.begin(), maps.end(), [&](const PointMap& m) { return contains_all(m, triplet); }))
-      maps.push_back(triplet);
-  }
-  if (static_cast<int>(maps.size()) > wanted) maps.resize(wanted);
+  const std::vector<Pair> pairs = qualified_pairs(s, t);
+  std::vector<std::vector<double>> votes;
+  const std::vector<Triplet> triplets = voted_triplets(geometry, s, t, pairs, threads, votes, control);
+  size_t combined = 0;
+  const std::vector<PointMap> maps = combined_maps(votes, triplets, wanted, combined);
 
   const Eigen::MatrixXd target_distances = [&] {
     Eigen::MatrixXd d(nt, nt);
