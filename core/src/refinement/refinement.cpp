@@ -245,34 +245,13 @@ class CandidateRefinement {
   void finish() {
     finishings_.resize(maps_.size());
     result_.candidates.resize(maps_.size());
-    // The finished ones first: a finishing costs several measurings. Where all maps are
-    // alike (all finished, or none), the last few share the workers. Where the finishings
-    // fill whole rounds of workers, the cheap measurings run beside the last round, one
-    // worker each (run after them instead, a 5K pair's two finishings and two measurings
-    // took 0.045 s longer). Where they do not, a lone last finishing would run on one
-    // worker while the measurings left the others idle: the finishings share the workers
-    // first, the measurings after them (TOSCA 5k cat1 -> cat2, three finished and one
-    // measured: a core sat idle for 0.2 s).
-    std::vector<int> order;
-    for (size_t i = 0; i < maps_.size(); ++i)
-      if (finished_[i]) order.push_back(static_cast<int>(i));
-    const int finishing = static_cast<int>(order.size());
-    for (size_t i = 0; i < maps_.size(); ++i)
-      if (!finished_[i]) order.push_back(static_cast<int>(i));
-    auto finish_and_measure = [&](int i, int workers) {
+    // The finishings are the costly bodies: one costs several measurings.
+    parallel_for_costly_first(finished_, threads_, [&](int i, int workers) {
       if (finished_[i]) finish_one(maps_[i], finishings_[i], workers, false);
       result_.candidates[i].tracked_index = tracked_of_[i];
       result_.candidates[i].finished = finished_[i];
       measure(i, workers);
-    };
-    const int count = static_cast<int>(order.size());
-    if (finishing == count || finishing == 0 || finishing % threads_ != 0) {
-      parallel_for_sharing(finishing, threads_, [&](int k, int workers) { finish_and_measure(order[k], workers); });
-      parallel_for_sharing(count - finishing, threads_,
-                           [&](int k, int workers) { finish_and_measure(order[finishing + k], workers); });
-    } else {
-      parallel_for(count, threads_, [&](int k, int) { finish_and_measure(order[k], 1); });
-    }
+    });
     control_.check_cancelled();
     clock_.finish("finish");
   }
