@@ -70,14 +70,24 @@ struct Finishing {
 };
 
 // The last stages of every refined map, on `threads` workers. The repair goes first: the
-// rigidity polish would spread a misplaced region into its surroundings. `mirror_repair`
-// (with settings.rigidity.mirror_repair) lets the polish unfold mirrored segments.
+// rigidity polish would spread a misplaced region into its surroundings.
 Finishing finish_map(const PreprocessedShape& source, const PreprocessedShape& target, const RigidityPolish& rigidity,
-                     const MatchSettings& settings, SpectralMap& map, const JobControl& control, int threads,
-                     bool mirror_repair) {
+                     const MatchSettings& settings, SpectralMap& map, const JobControl& control, int threads) {
   Finishing finishing;
   if (settings.outlier_repair) finishing.repair = repair_outliers(source, target, map.image, threads, control);
-  finishing.mirror_repair = rigidity.apply(map, control, threads, mirror_repair && settings.rigidity.mirror_repair);
+  rigidity.polish(map, control, threads);
+  return finishing;
+}
+
+// finish_map with the polish's mirror repair (when settings.rigidity.mirror_repair), which
+// unfolds mirrored segments.
+Finishing finish_map_with_mirror_repair(const PreprocessedShape& source, const PreprocessedShape& target,
+                                        const RigidityPolish& rigidity, const MatchSettings& settings,
+                                        SpectralMap& map, const JobControl& control, int threads) {
+  if (!settings.rigidity.mirror_repair) return finish_map(source, target, rigidity, settings, map, control, threads);
+  Finishing finishing;
+  if (settings.outlier_repair) finishing.repair = repair_outliers(source, target, map.image, threads, control);
+  finishing.mirror_repair = rigidity.polish_with_mirror_repair(map, control, threads);
   return finishing;
 }
 
@@ -99,7 +109,9 @@ SpectralMap refine_from_pairs_with(const PreprocessedShape& source, const Prepro
   options.threads = settings.threads;
   const SpectralSide source_side = spectral_side(source), target_side = spectral_side(target);
   SpectralMap map = zoomout(source_side, target_side, pairs, options, control);
-  auto finish = [&] { finish_map(source, target, rigidity, settings, map, control, settings.threads, true); };
+  auto finish = [&] {
+    finish_map_with_mirror_repair(source, target, rigidity, settings, map, control, settings.threads);
+  };
   finish();
   spectral_polish(source_side, target_side, options, map, control, finish);
   return map;
@@ -247,7 +259,7 @@ class CandidateRefinement {
     result_.candidates.resize(maps_.size());
     // The finishings are the costly bodies: one costs several measurings.
     parallel_for_costly_first(finished_, threads_, [&](int i, int workers) {
-      if (finished_[i]) finish_one(maps_[i], finishings_[i], workers, false);
+      if (finished_[i]) finishings_[i] = finish_one(maps_[i], workers);
       result_.candidates[i].tracked_index = tracked_of_[i];
       result_.candidates[i].finished = finished_[i];
       measure(i, workers);
@@ -262,7 +274,7 @@ class CandidateRefinement {
     const int chosen = result_.chosen =
         choose_dense_candidate(result_.candidates, settings_.orientation_margin, result_.why);
     if (!finished_[chosen]) {
-      finish_one(maps_[chosen], finishings_[chosen], settings_.threads, false);
+      finishings_[chosen] = finish_one(maps_[chosen], settings_.threads);
       measure(chosen, settings_.threads);
     }
     last_ = finishings_[chosen];
@@ -289,7 +301,8 @@ class CandidateRefinement {
   // A winner the spectral polish or the unfolding changed is finished again, now with the
   // mirror repair.
   void finish_with_mirror_repair() {
-    if (polished_ || result_.mirror_repair_chosen.segments > 0) finish_one(winner(), last_, settings_.threads, true);
+    if (polished_ || result_.mirror_repair_chosen.segments > 0)
+      last_ = finish_one_with_mirror_repair(winner(), settings_.threads);
     result_.repair = last_.repair;
     result_.mirror_repair = last_.mirror_repair;
     clock_.finish("finish_with_mirror_repair");
@@ -327,8 +340,11 @@ class CandidateRefinement {
     return options;
   }
   SpectralMap& winner() { return maps_[result_.chosen]; }
-  void finish_one(SpectralMap& map, Finishing& finishing, int threads, bool mirror_repair) {
-    finishing = finish_map(source_, target_, *rigidity_, settings_, map, control_, threads, mirror_repair);
+  Finishing finish_one(SpectralMap& map, int threads) const {
+    return finish_map(source_, target_, *rigidity_, settings_, map, control_, threads);
+  }
+  Finishing finish_one_with_mirror_repair(SpectralMap& map, int threads) const {
+    return finish_map_with_mirror_repair(source_, target_, *rigidity_, settings_, map, control_, threads);
   }
   void measure(int i, int threads) {
     DenseCandidate& candidate = result_.candidates[i];

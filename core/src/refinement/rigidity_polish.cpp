@@ -54,12 +54,148 @@ int nearest_by_descent(const TriangleMesh& mesh, const MeshTopology& topology, c
 
 }  // namespace
 
-struct RigidityPolish::System {
+// The pair's part of the polish: the source's rings, scaled to the target, and one factored
+// system per fit weight.
+struct RigiditySystem {
   Rings rings;
   Eigen::VectorXd mass;                 // scaled lumped mass
   std::vector<double> lambdas;          // fit weight of each stage
   std::vector<std::unique_ptr<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>>> solvers;  // L + lambda M
 };
+
+namespace {
+
+// One deformation's state between iterations: where the source is, where each vertex's
+// nearest-vertex search starts, and the last local step's rotations and fit points.
+struct Deformation {
+  DeformedPoints& deformed;
+  std::vector<int>& image;
+  DeformedPoints fit_points, rhs;
+  std::vector<Eigen::Quaterniond> rotation;
+  std::vector<Eigen::Matrix3d> rotation_matrix;
+  bool first_iteration = true;
+
+  Deformation(DeformedPoints& deformed, std::vector<int>& image)
+      : deformed(deformed), image(image), fit_points(deformed.rows(), 3), rhs(deformed.rows(), 3),
+        rotation(deformed.rows()), rotation_matrix(deformed.rows()) {}
+};
+
+// Local step: each ring's best rotation; and each vertex's fit point, the tangent plane of
+// the target at the nearest vertex (a plane, not the vertex, so that the fit does not hold
+// the surface where it is: sliding along the target is free to first order).
+void fit_rotations_and_planes(const Rings& rings, const PreprocessedShape& target, Deformation& state, int workers) {
+  const TriangleMesh& to = target.mesh();
+  const MeshTopology& to_topology = target.geodesics().topology();
+  const std::vector<Vec3>& to_normals = target.normals();
+  parallel_for(static_cast<int>(state.deformed.rows()), workers, [&](int v, int) {
+    const Eigen::Matrix3d covariance = ring_covariance(rings, state.deformed, v);
+    if (state.first_iteration) state.rotation[v] = Eigen::Quaterniond(best_rotation(covariance));
+    else update_rotation(covariance, state.rotation[v]);
+    state.rotation_matrix[v] = state.rotation[v].toRotationMatrix();
+    const Vec3 y = state.deformed.row(v).transpose();
+    float squared = 0;
+    state.image[v] = nearest_by_descent(to, to_topology, y, state.image[v], squared);
+    const Vec3& p = to.vertices[state.image[v]];
+    const Vec3& normal = to_normals[state.image[v]];
+    state.fit_points.row(v) = (y - normal * normal.dot(y - p)).transpose();
+  });
+}
+
+// Global step: (L + lambda M) Y = sum_j w (R_i + R_j) rest_ij / 2 + lambda M fit.
+void solve_positions(const RigiditySystem& system, size_t stage, Deformation& state, int workers) {
+  const Rings& rings = system.rings;
+  const double lambda = system.lambdas[stage];
+  parallel_for(static_cast<int>(state.deformed.rows()), workers, [&](int v, int) {
+    Vec3 b = lambda * system.mass(v) * state.fit_points.row(v).transpose();
+    for (int e = rings.offsets[v]; e < rings.offsets[v + 1]; ++e) {
+      const RingEdge& ring = rings.edges[e];
+      b += 0.5 * ring.weight * (state.rotation_matrix[v] + state.rotation_matrix[ring.to]) * ring.rest;
+    }
+    state.rhs.row(v) = b.transpose();
+  });
+  solve_rows_in_place(*system.solvers[stage], state.rhs);
+  state.deformed = state.rhs;
+}
+
+// The energy a deformation ends at: rigidity plus the fit of weight `lambda`.
+double deformation_energy(const RigiditySystem& system, double lambda, const Deformation& state, int workers) {
+  const Rings& rings = system.rings;
+  const DeformedPoints& deformed = state.deformed;
+  const int n = static_cast<int>(deformed.rows());
+  std::vector<double> energy(n, 0.0);
+  parallel_for(n, workers, [&](int v, int) {
+    const Vec3 y = deformed.row(v).transpose();
+    double e = lambda * system.mass(v) * (y - state.fit_points.row(v).transpose()).squaredNorm();
+    for (int k = rings.offsets[v]; k < rings.offsets[v + 1]; ++k) {
+      const RingEdge& ring = rings.edges[k];
+      e += ring.weight * ((y - deformed.row(ring.to).transpose()) - state.rotation_matrix[v] * ring.rest).squaredNorm();
+    }
+    energy[v] = e;
+  });
+  double total = 0;
+  for (const double e : energy) total += e;  // in order: the same sum for any thread count
+  return total;
+}
+
+// The three stages from `deformed` (and `image`, where each vertex's nearest-vertex search
+// starts) on `workers` threads; returns the energy they end at, rigidity plus the last
+// stage's fit.
+double deform(const RigiditySystem& system, const PreprocessedShape& target, int iterations,
+              DeformedPoints& deformed, std::vector<int>& image, int workers, const JobControl& control) {
+  Deformation state(deformed, image);
+  double lambda = 0;
+  for (size_t stage = 0; stage < system.lambdas.size(); ++stage) {
+    lambda = system.lambdas[stage];
+    for (int iteration = 0; iteration < iterations; ++iteration) {
+      control.check_cancelled();
+      fit_rotations_and_planes(system.rings, target, state, workers);
+      solve_positions(system, stage, state, workers);
+      state.first_iteration = false;
+    }
+  }
+  return deformation_energy(system, lambda, state, workers);
+}
+
+// The source placed at its images.
+DeformedPoints at_images(const TriangleMesh& target, const std::vector<int>& image) {
+  DeformedPoints deformed(image.size(), 3);
+  for (size_t v = 0; v < image.size(); ++v) deformed.row(v) = target.vertices[image[v]].transpose();
+  return deformed;
+}
+
+// The maps from the deformed source: each source vertex to the target vertex nearest its
+// deformed position, and (unless map.reverse_image is empty) each target vertex to the
+// source vertex whose deformed position is nearest, both by descent from their images.
+void read_out(const PreprocessedShape& source, const PreprocessedShape& target, const DeformedPoints& deformed,
+              SpectralMap& map, int threads) {
+  const TriangleMesh& to = target.mesh();
+  const MeshTopology& to_topology = target.geodesics().topology();
+  const double inverse_diameter = 1.0 / target.diameter();
+  map.residual.assign(deformed.rows(), 0.f);
+  parallel_for(static_cast<int>(deformed.rows()), threads, [&](int v, int) {
+    float squared = 0;
+    map.image[v] = nearest_by_descent(to, to_topology, deformed.row(v).transpose(), map.image[v], squared);
+    map.residual[v] = static_cast<float>(std::sqrt(squared) * inverse_diameter);
+  });
+  if (map.reverse_image.empty()) return;
+  const MeshTopology& from_topology = source.geodesics().topology();
+  const int m = to.num_vertices();
+  map.reverse_residual.assign(m, 0.f);
+  parallel_for(m, threads, [&](int w, int) {
+    auto cost = [&](int v) { return static_cast<float>((deformed.row(v).transpose() - to.vertices[w]).squaredNorm()); };
+    float squared = 0;
+    map.reverse_image[w] = descend_to_minimum(from_topology, map.reverse_image[w], cost, squared);
+    map.reverse_residual[w] = static_cast<float>(std::sqrt(squared) * inverse_diameter);
+  });
+}
+
+void check_fits(const PreprocessedShape& source, const PreprocessedShape& target, const SpectralMap& map) {
+  if (static_cast<int>(map.image.size()) != source.mesh().num_vertices() ||
+      (!map.reverse_image.empty() && static_cast<int>(map.reverse_image.size()) != target.mesh().num_vertices()))
+    throw std::logic_error("rigidity_polish: the map does not fit the shapes");
+}
+
+}  // namespace
 
 RigidityPolish::RigidityPolish(const PreprocessedShape& source, const PreprocessedShape& target,
                                const RigidityOptions& options)
@@ -72,7 +208,7 @@ RigidityPolish::RigidityPolish(const PreprocessedShape& source, const Preprocess
   if (!(source_to_target > 0) || !std::isfinite(source_to_target))
     throw std::logic_error("RigidityPolish: the scale must be positive");
   const double scale = source_to_target;  // source lengths to target lengths
-  auto system = std::make_unique<System>();
+  auto system = std::make_unique<RigiditySystem>();
   system->rings = build_rings(source.mesh(), scale);
   system->mass = lumped_mass(source.mesh()) * (scale * scale);
   const double edge = source.mean_edge() * scale;
@@ -97,142 +233,59 @@ MirrorRepair rigidity_polish(const PreprocessedShape& source, const Preprocessed
 }
 
 MirrorRepair RigidityPolish::apply(SpectralMap& map, const JobControl& control) const {
-  return apply(map, control, options_.threads, options_.mirror_repair);
+  if (options_.mirror_repair) return polish_with_mirror_repair(map, control, options_.threads);
+  polish(map, control, options_.threads);
+  return {};
 }
 
 MirrorRepair RigidityPolish::unfold_mirrors(SpectralMap& map) const {
   if (!system_) return {};
-  const TriangleMesh& to = target_.mesh();
-  DeformedPoints deformed(map.image.size(), 3);
-  for (size_t v = 0; v < map.image.size(); ++v) deformed.row(v) = to.vertices[map.image[v]].transpose();
+  DeformedPoints deformed = at_images(target_.mesh(), map.image);
   const MirroredSegments segments = unfold_mirrored_segments(source_, target_, system_->rings, map.image, deformed);
   return {segments.reversed_vertices, segments.segments, false};  // no polish here, so no energy to compare
 }
 
-MirrorRepair RigidityPolish::apply(SpectralMap& map, const JobControl& control, int thread_count,
-                                   bool mirror_repair) const {
-  if (!system_) return {};
-  const PreprocessedShape& source = source_;
-  const PreprocessedShape& target = target_;
-  const TriangleMesh& from = source.mesh();
-  const TriangleMesh& to = target.mesh();
-  const int n = from.num_vertices();
-  const bool with_reverse = !map.reverse_image.empty();
-  if (static_cast<int>(map.image.size()) != n ||
-      (with_reverse && static_cast<int>(map.reverse_image.size()) != to.num_vertices()))
-    throw std::logic_error("rigidity_polish: the map does not fit the shapes");
+void RigidityPolish::polish(SpectralMap& map, const JobControl& control, int thread_count) const {
+  if (!system_) return;
+  check_fits(source_, target_, map);
   const int threads = resolve_thread_count(thread_count);
-  const Rings& rings = system_->rings;
-  const Eigen::VectorXd& mass = system_->mass;
-  const MeshTopology& to_topology = target.geodesics().topology();
-  const std::vector<Vec3>& to_normals = target.normals();
-
-  // The three stages from `deformed` (and `image`, where each vertex's nearest-vertex
-  // search starts) on `workers` threads; returns the energy they end at, rigidity plus the
-  // last stage's fit.
-  auto deform = [&](DeformedPoints& deformed, std::vector<int>& image, int workers) {
-    DeformedPoints fit_points(n, 3), rhs(n, 3);
-    std::vector<Eigen::Quaterniond> rotation(n);
-    std::vector<Eigen::Matrix3d> rotation_matrix(n);
-    bool first_iteration = true;
-    double lambda = 0;
-    for (size_t stage = 0; stage < system_->lambdas.size(); ++stage) {
-      lambda = system_->lambdas[stage];
-      const auto& solver = *system_->solvers[stage];
-      for (int iteration = 0; iteration < options_.iterations; ++iteration) {
-        control.check_cancelled();
-        // Local step: each ring's best rotation; and each vertex's fit point, the tangent
-        // plane of the target at the nearest vertex (a plane, not the vertex, so that the
-        // fit does not hold the surface where it is: sliding along the target is free to
-        // first order).
-        parallel_for(n, workers, [&](int v, int) {
-          const Eigen::Matrix3d covariance = ring_covariance(rings, deformed, v);
-          if (first_iteration) rotation[v] = Eigen::Quaterniond(best_rotation(covariance));
-          else update_rotation(covariance, rotation[v]);
-          rotation_matrix[v] = rotation[v].toRotationMatrix();
-          const Vec3 y = deformed.row(v).transpose();
-          float squared = 0;
-          image[v] = nearest_by_descent(to, to_topology, y, image[v], squared);
-          const Vec3& p = to.vertices[image[v]];
-          const Vec3& normal = to_normals[image[v]];
-          fit_points.row(v) = (y - normal * normal.dot(y - p)).transpose();
-        });
-        // Global step: (L + lambda M) Y = sum_j w (R_i + R_j) rest_ij / 2 + lambda M fit.
-        parallel_for(n, workers, [&](int v, int) {
-          Vec3 b = lambda * mass(v) * fit_points.row(v).transpose();
-          for (int e = rings.offsets[v]; e < rings.offsets[v + 1]; ++e) {
-            const RingEdge& ring = rings.edges[e];
-            b += 0.5 * ring.weight * (rotation_matrix[v] + rotation_matrix[ring.to]) * ring.rest;
-          }
-          rhs.row(v) = b.transpose();
-        });
-        solve_rows_in_place(solver, rhs);
-        deformed = rhs;
-        first_iteration = false;
-      }
-    }
-    std::vector<double> energy(n, 0.0);
-    parallel_for(n, workers, [&](int v, int) {
-      const Vec3 y = deformed.row(v).transpose();
-      double e = lambda * mass(v) * (y - fit_points.row(v).transpose()).squaredNorm();
-      for (int k = rings.offsets[v]; k < rings.offsets[v + 1]; ++k) {
-        const RingEdge& ring = rings.edges[k];
-        e += ring.weight * ((y - deformed.row(ring.to).transpose()) - rotation_matrix[v] * ring.rest).squaredNorm();
-      }
-      energy[v] = e;
-    });
-    double total = 0;
-    for (const double e : energy) total += e;  // in order: the same sum for any thread count
-    return total;
-  };
-
-  std::vector<int>& image = map.image;
-  DeformedPoints deformed(n, 3);
-  for (int v = 0; v < n; ++v) deformed.row(v) = to.vertices[image[v]].transpose();
-  MirrorRepair repair;
-  if (mirror_repair) {
-    // Both starts are polished and the lower energy wins: the unfolded segments must earn
-    // their place against the fold the polish would otherwise settle in.
-    DeformedPoints unfolded = deformed;
-    std::vector<int> unfolded_image = image;
-    const MirroredSegments segments = unfold_mirrored_segments(source, target, rings, unfolded_image, unfolded);
-    repair.reversed_vertices = segments.reversed_vertices;
-    repair.segments = segments.segments;
-    // The two polishes side by side, the workers shared out: each one's sparse solves run on
-    // one thread and left the other core idle (michael0 -> michael1's last finishing).
-    double energies[2] = {0, 0};
-    parallel_for_sharing(segments.segments > 0 ? 2 : 1, threads, [&](int which, int shared) {
-      energies[which] = which == 0 ? deform(deformed, image, shared) : deform(unfolded, unfolded_image, shared);
-    });
-    if (segments.segments > 0 && energies[1] < energies[0]) {
-      deformed.swap(unfolded);
-      image.swap(unfolded_image);
-      repair.kept = true;
-    }
-  } else {
-    deform(deformed, image, threads);
-  }
-
+  DeformedPoints deformed = at_images(target_.mesh(), map.image);
+  deform(*system_, target_, options_.iterations, deformed, map.image, threads, control);
   control.check_cancelled();
-  const double inverse_diameter = 1.0 / target.diameter();
-  map.residual.assign(n, 0.f);
-  parallel_for(n, threads, [&](int v, int) {
-    float squared = 0;
-    image[v] = nearest_by_descent(to, to_topology, deformed.row(v).transpose(), image[v], squared);
-    map.residual[v] = static_cast<float>(std::sqrt(squared) * inverse_diameter);
+  read_out(source_, target_, deformed, map, threads);
+}
+
+MirrorRepair RigidityPolish::polish_with_mirror_repair(SpectralMap& map, const JobControl& control,
+                                                       int thread_count) const {
+  if (!system_) return {};
+  check_fits(source_, target_, map);
+  const int threads = resolve_thread_count(thread_count);
+  std::vector<int>& image = map.image;
+  DeformedPoints deformed = at_images(target_.mesh(), image);
+  // Both starts are polished and the lower energy wins: the unfolded segments must earn
+  // their place against the fold the polish would otherwise settle in.
+  DeformedPoints unfolded = deformed;
+  std::vector<int> unfolded_image = image;
+  const MirroredSegments segments =
+      unfold_mirrored_segments(source_, target_, system_->rings, unfolded_image, unfolded);
+  MirrorRepair repair;
+  repair.reversed_vertices = segments.reversed_vertices;
+  repair.segments = segments.segments;
+  // The two polishes side by side, the workers shared out: each one's sparse solves run on
+  // one thread and left the other core idle (michael0 -> michael1's last finishing).
+  double energies[2] = {0, 0};
+  parallel_for_sharing(segments.segments > 0 ? 2 : 1, threads, [&](int which, int shared) {
+    const int iterations = options_.iterations;
+    energies[which] = which == 0 ? deform(*system_, target_, iterations, deformed, image, shared, control)
+                                 : deform(*system_, target_, iterations, unfolded, unfolded_image, shared, control);
   });
-  if (!with_reverse) return repair;
-  // The reverse map from the same deformation: each target vertex goes to the source
-  // vertex whose deformed position is nearest, by descent over the source from its image.
-  const MeshTopology& from_topology = source.geodesics().topology();
-  const int m = to.num_vertices();
-  map.reverse_residual.assign(m, 0.f);
-  parallel_for(m, threads, [&](int w, int) {
-    auto cost = [&](int v) { return static_cast<float>((deformed.row(v).transpose() - to.vertices[w]).squaredNorm()); };
-    float squared = 0;
-    map.reverse_image[w] = descend_to_minimum(from_topology, map.reverse_image[w], cost, squared);
-    map.reverse_residual[w] = static_cast<float>(std::sqrt(squared) * inverse_diameter);
-  });
+  if (segments.segments > 0 && energies[1] < energies[0]) {
+    deformed.swap(unfolded);
+    image.swap(unfolded_image);
+    repair.kept = true;
+  }
+  control.check_cancelled();
+  read_out(source_, target_, deformed, map, threads);
   return repair;
 }
 

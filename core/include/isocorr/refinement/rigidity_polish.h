@@ -17,9 +17,9 @@
 // nearest. Extrinsic, but only through local shape: a pose change does not affect it.
 //
 // A fold is a local minimum of that energy: a stretch of a limb that the map sends
-// mirrored stays mirrored. So the polish also starts from the map with such segments placed
-// again (mirrored_segments.h in the sources) and keeps whichever end state has the lower
-// energy.
+// mirrored stays mirrored. So the polish with the mirror repair (polish_with_mirror_repair)
+// also starts from the map with such segments placed again (mirrored_segments.h in the
+// sources) and keeps whichever end state has the lower energy.
 #pragma once
 
 #include <memory>
@@ -47,6 +47,9 @@ struct MirrorRepair {
   bool kept = false;          // the polish from the placed segments ended at the lower energy
 };
 
+// The pair's rings and factored systems (rigidity_polish.cpp).
+struct RigiditySystem;
+
 // The polish for one pair of shapes: the source's rings and the three factored systems
 // depend on the pair only, so a match that polishes several candidates builds them once.
 class RigidityPolish {
@@ -63,23 +66,25 @@ class RigidityPolish {
   // deformed position and its image, divided by the target's diameter. map.c is kept.
   // An empty map.reverse_image asks for the forward map only (a part's reverse map marks
   // target vertices without a counterpart, which the nearest deformed vertex cannot).
-  // Deterministic; `control` is checked between iterations.
+  // Deterministic; `control` is checked between iterations. On the options' threads, and
+  // with the mirror repair (polish_with_mirror_repair) when the options ask for it.
   MirrorRepair apply(SpectralMap& map, const JobControl& control = {}) const;
-  // The same on `threads` workers (0 = all cores) instead of the options' count (a match
-  // that finishes several maps side by side shares its workers out among them), with the
-  // mirror repair on or off whatever the options say.
-  MirrorRepair apply(SpectralMap& map, const JobControl& control, int threads, bool mirror_repair) const;
+  // The polish alone, on `threads` workers (0 = all cores) instead of the options' count (a
+  // match that finishes several maps side by side shares its workers out among them).
+  void polish(SpectralMap& map, const JobControl& control, int threads) const;
+  // The polish from the map and, side by side, from the map with its mirrored segments
+  // placed again (unfold_mirrors); the end state of lower energy is kept.
+  MirrorRepair polish_with_mirror_repair(SpectralMap& map, const JobControl& control, int threads) const;
   // Only the mirror repair's first half: the map's mirrored segments placed again, their
   // vertices sent to the target vertices nearest their new positions; no polish, and
   // map.reverse_image / residuals are left as they were (for a map about to be refitted).
   MirrorRepair unfold_mirrors(SpectralMap& map) const;
 
  private:
-  struct System;
   const PreprocessedShape& source_;
   const PreprocessedShape& target_;
   RigidityOptions options_;
-  std::unique_ptr<const System> system_;  // null when options.iterations is 0
+  std::unique_ptr<const RigiditySystem> system_;  // null when options.iterations is 0
 };
 
 // One polish: RigidityPolish(source, target, options).apply(map, control).
