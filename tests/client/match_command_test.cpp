@@ -64,7 +64,8 @@ TEST_F(MatchCommand, WritesMapsAndReportThatEvalScores) {
   // The refine stage's steps are listed apart, every one of them, and fit within it.
   double steps = 0;
   for (const char* step : {"screen", "refine", "drop_duplicates", "preselect", "finish", "choose", "unfold_mirrors",
-                           "spectral_polish", "finish_with_mirror_repair", "refine_again", "final_polish"}) {
+                           "spectral_polish", "curvature_polish", "finish_with_mirror_repair", "refine_again",
+                           "final_polish"}) {
     ASSERT_TRUE(json["refine_steps_seconds"].contains(step)) << step;
     steps += json["refine_steps_seconds"][step].get<double>();
   }

@@ -290,12 +290,30 @@ class CandidateRefinement {
     clock_.finish("unfold_mirrors");
   }
 
-  // The winner refined on every vertex up to zoomout_polish_k_end, with the curvature term
-  // (zoomout.h). The candidates' evidence describes their maps before it: it decided the
-  // choice.
+  // The winner's basis grown on the samples up to zoomout_polish_k_end (polish_on_samples,
+  // zoomout.h), the curvature term picking the images as it grows. Without a curvature term
+  // the winner's dense map is recovered here; with one, the curvature polish recovers it.
+  // The candidates' evidence describes their maps before it: it decided the choice.
   void spectral_polish() {
-    polished_ = zoomout_polish(source_side_, target_side_, options_, winner(), control_);
+    polish_samples_ = polish_on_samples(source_side_, target_side_, options_, winner(), control_);
+    if (polish_samples_ && !has_curvature_polish(source_side_, target_side_, options_)) {
+      winner() = zoomout_dense(source_side_, target_side_, *polish_samples_, options_, control_);
+      polished_ = true;
+      polish_samples_.reset();
+    }
     clock_.finish("spectral_polish");
+  }
+
+  // The spectral polish's last refits, on the samples and then on every vertex, with the
+  // curvature term (curvature_polish, zoomout.h).
+  void curvature_polish() {
+    if (polish_samples_) {
+      winner() =
+          isocorr::curvature_polish(source_side_, target_side_, options_, std::move(*polish_samples_), control_);
+      polished_ = true;
+      polish_samples_.reset();
+    }
+    clock_.finish("curvature_polish");
   }
 
   // A winner the spectral polish or the unfolding changed is finished again, now with the
@@ -370,7 +388,8 @@ class CandidateRefinement {
   std::vector<bool> finished_;       // per map: finished before the choice
   std::vector<Finishing> finishings_;
   Finishing last_;                   // the winner's latest finishing
-  bool polished_ = false;
+  std::optional<SampleMap> polish_samples_;  // the winner between its spectral and curvature polish
+  bool polished_ = false;            // the spectral or the curvature polish changed the winner
 };
 
 }  // namespace
@@ -388,6 +407,7 @@ RefinedMatch refine_and_choose(const PreprocessedShape& source, const Preprocess
   run.choose();
   run.unfold_mirrors();
   run.spectral_polish();
+  run.curvature_polish();
   run.finish_with_mirror_repair();
   run.refine_again();
   run.final_polish();

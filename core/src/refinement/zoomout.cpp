@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <stdexcept>
+#include <utility>
 
 #include "isocorr/matching/surface_descent.h"
 #include "isocorr/refinement/functional_map_fit.h"
@@ -274,7 +276,7 @@ bool has_columns(const Eigen::MatrixXf* source, const Eigen::MatrixXf* target) {
 
 std::optional<CurvatureTerm> curvature_term(const SpectralSide& source, const SpectralSide& target,
                                             const ZoomOutOptions& options) {
-  if (!(options.curvature_weight > 0) || !has_columns(source.curvature, target.curvature)) return std::nullopt;
+  if (!has_curvature_polish(source, target, options)) return std::nullopt;
   const int scales = static_cast<int>(source.curvature->cols());
   const bool gaussian = has_columns(source.gaussian_curvature, target.gaussian_curvature) &&
                         source.gaussian_curvature->cols() == scales;
@@ -487,12 +489,13 @@ SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
                        options, control);
 }
 
-bool zoomout_polish(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options,
-                    SpectralMap& map, const JobControl& control) {
+std::optional<SampleMap> polish_on_samples(const SpectralSide& source, const SpectralSide& target,
+                                           const ZoomOutOptions& options, const SpectralMap& map,
+                                           const JobControl& control) {
   const int k = static_cast<int>(map.c.cols());
   const int k_end = std::max(k, within_bases(options.polish_k_end, source, target));
   const std::optional<CurvatureTerm> curvature = curvature_term(source, target, options);
-  if (k == k_end && !curvature) return false;
+  if (k == k_end && !curvature) return std::nullopt;
   // C is fitted afresh at k from the map's own images of the samples (map.c belongs to the
   // map before it was finished).
   SampleMap sampled;
@@ -501,12 +504,28 @@ bool zoomout_polish(const SpectralSide& source, const SpectralSide& target, cons
   growth.k_step = options.polish_k_step;
   const bool curvature_in_growth = curvature && options.curvature_candidates > 0;
   grow_on_samples(source, target, k, k_end, growth, sampled, control, curvature_in_growth ? &*curvature : nullptr);
-  if (!curvature) {
-    map = zoomout_dense(source, target, sampled, options, control);
-    return true;
-  }
+  return sampled;
+}
+
+bool has_curvature_polish(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options) {
+  return options.curvature_weight > 0 && has_columns(source.curvature, target.curvature);
+}
+
+SpectralMap curvature_polish(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options,
+                             SampleMap sampled, const JobControl& control) {
+  const std::optional<CurvatureTerm> curvature = curvature_term(source, target, options);
+  if (!curvature) throw std::logic_error("curvature_polish: no curvature term (has_curvature_polish)");
   sharpen_on_samples(source, target, *curvature, options, sampled, control);
-  map = sharpened_dense(source, target, *curvature, sampled, resolve_thread_count(options.threads), control);
+  return sharpened_dense(source, target, *curvature, sampled, resolve_thread_count(options.threads), control);
+}
+
+bool zoomout_polish(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options,
+                    SpectralMap& map, const JobControl& control) {
+  std::optional<SampleMap> sampled = polish_on_samples(source, target, options, map, control);
+  if (!sampled) return false;
+  map = has_curvature_polish(source, target, options)
+            ? curvature_polish(source, target, options, std::move(*sampled), control)
+            : zoomout_dense(source, target, *sampled, options, control);
   return true;
 }
 

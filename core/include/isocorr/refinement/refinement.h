@@ -32,7 +32,7 @@ struct RefinedMatch {
   FinalPolishOutcome final_polish;  // settings.rigidity_final_iterations (after settings.refine_passes)
   // Wall-clock time of each stage, named as refine_and_choose runs them: screen, refine,
   // drop_duplicates, preselect, finish, choose, unfold_mirrors, spectral_polish,
-  // finish_with_mirror_repair, refine_again, final_polish.
+  // curvature_polish, finish_with_mirror_repair, refine_again, final_polish.
   std::vector<StageTiming> timings;
 };
 

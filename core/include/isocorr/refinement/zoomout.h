@@ -9,6 +9,7 @@
 // of Phi_S C.
 #pragma once
 
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -36,9 +37,9 @@ struct ZoomOutOptions {
   // the coarse stages pull even a map started from the ground truth away from it. Figures
   // and cost: docs/decisions.md, "ZoomOut refinement".
   double commutativity = 10;
-  // The curvature term of the polish (zoomout_polish), after the basis growth: weight of
-  // the extrinsic term (0 = off) and its iterations on the samples. See that function for
-  // why and what it gains.
+  // The curvature polish (curvature_polish), after the basis growth: weight of the
+  // extrinsic term (0 = off) and its iterations on the samples. See that function for why
+  // and what it gains.
   double curvature_weight = 3;
   int curvature_iterations = 10;
   // The curvature term in the polish's basis growth too (0 = growth on the spectral
@@ -110,13 +111,25 @@ SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
                     const std::vector<std::pair<int, int>>& start, const ZoomOutOptions& options,
                     const JobControl& control = {});
 
-// Continues a refined (finished) map to a larger basis: ZoomOut's sampled iterations from
-// the map's images of the source samples, the basis grown from the map's size by
-// options.polish_k_step up to options.polish_k_end (at most the bases' size), then
-// zoomout_dense at that size (forward and reverse maps from the last C).
+// The spectral polish of a refined (finished) map, in two stages that refine_and_choose
+// times apart; zoomout_polish runs both.
 //
-// With options.curvature_weight > 0 and both sides' curvature, the curvature polish follows
-// at that size, in place of zoomout_dense. Why: on scans of people the truth is no more
+// The first stage continues the map to a larger basis: ZoomOut's sampled iterations from
+// the map's images of the source samples, the basis grown from the map's size by
+// options.polish_k_step up to options.polish_k_end (at most the bases' size). With
+// has_curvature_polish and options.curvature_candidates, the curvature term already picks
+// the images during this growth (among that many spectrally nearest target samples).
+// Returns the sampled map at that size, or nothing when there is neither a basis to grow
+// nor a curvature term. Its dense map is then zoomout_dense's, or the curvature polish's.
+std::optional<SampleMap> polish_on_samples(const SpectralSide& source, const SpectralSide& target,
+                                           const ZoomOutOptions& options, const SpectralMap& map,
+                                           const JobControl& control = {});
+
+// Whether the curvature polish runs: options.curvature_weight > 0 and both sides' curvature.
+bool has_curvature_polish(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options);
+
+// The second stage, the curvature polish (with has_curvature_polish), in place of
+// zoomout_dense at the sampled map's size. Why: on scans of people the truth is no more
 // isometric than the maps ZoomOut converges to (SCAPE: mean geodesic distortion of the
 // ground truth 0.009-0.029 of the diameter, of our maps 0.008-0.028), so intrinsic refits
 // leave smooth slides of a centimetre or two along the body; local shape seen from outside
@@ -127,10 +140,13 @@ SpectralMap zoomout(const SpectralSide& source, const SpectralSide& target,
 // number of smoothing scales (each of the k spectral coordinates and each normalised
 // curvature has unit mean square; the Gaussian columns add to the mean ones' weight, not
 // share it): curvature_iterations refits on the samples,
-// then every vertex once, each image moved by descent. With options.curvature_candidates
-// the same cost already picks the images during the basis growth (among that many
-// spectrally nearest target samples). Returns whether the map changed
-// (false: no growth asked and no curvature term).
+// then every vertex once, each image moved by descent. The reverse map comes from the same C.
+SpectralMap curvature_polish(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options,
+                             SampleMap sampled, const JobControl& control = {});
+
+// Both stages: polish_on_samples, then curvature_polish or, without a curvature term,
+// zoomout_dense (forward and reverse maps from the last C). Returns whether the map
+// changed (false: no growth asked and no curvature term).
 bool zoomout_polish(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options,
                     SpectralMap& map, const JobControl& control = {});
 
