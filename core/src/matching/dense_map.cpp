@@ -133,6 +133,102 @@ std::vector<SamplePair> drop_least_consistent(const PreprocessedShape& source, c
   return kept;
 }
 
+// The dense level's anchors: their fields on both shapes, and where their images lie.
+struct DenseAnchors {
+  std::vector<const float*> source_fields, target_fields;
+  // target_vertex: an anchor's image; field_vertex: where its target field is centred
+  // (its sample until the field is recomputed at the image).
+  std::vector<int> source_vertex, target_vertex, field_vertex;
+  std::vector<std::vector<float>> refined_fields;  // target fields recomputed at an image
+};
+
+// The first `e` of `pairs` as anchors, where tracking left them.
+DenseAnchors dense_anchors(const PreprocessedShape& source, const PreprocessedShape& target,
+                           const std::vector<SamplePair>& pairs, int e) {
+  DenseAnchors anchors;
+  anchors.source_fields.resize(e), anchors.target_fields.resize(e);
+  anchors.source_vertex.resize(e), anchors.target_vertex.resize(e), anchors.field_vertex.resize(e);
+  anchors.refined_fields.resize(e);
+  for (int a = 0; a < e; ++a) {
+    anchors.source_fields[a] = source.field_row(pairs[a].source_sample);
+    anchors.target_fields[a] = target.field_row(pairs[a].target_sample);
+    anchors.source_vertex[a] = source.sample_vertex(pairs[a].source_sample);
+    anchors.target_vertex[a] = image_vertex(target, pairs[a]);  // tracking's vertex-accurate image
+    anchors.field_vertex[a] = target.sample_vertex(pairs[a].target_sample);
+  }
+  return anchors;
+}
+
+// One round of refine_anchor_images; returns how many images moved.
+int move_anchor_images(const PreprocessedShape& target, const Descriptors& source_desc, DenseAnchors& anchors,
+                       int threads) {
+  const int e = static_cast<int>(anchors.source_vertex.size());
+  const int target_n = target.mesh().num_vertices();
+  const float inverse_diameter = static_cast<float>(1.0 / target.diameter());
+  const MeshTopology& target_topology = target.geodesics().topology();
+  std::vector<int> moved_to(e);
+  parallel_for(e, threads, [&](int a, int) {
+    const float* x = source_desc.row(anchors.source_vertex[a]);
+    float best = 0;
+    moved_to[a] = descend_to_minimum<CostPrice::kDear>(target_topology, anchors.target_vertex[a], [&](int w) {
+      float sum = 0;
+      for (int b = 0; b < e; ++b)
+        if (b != a) sum += std::abs(x[b] - anchors.target_fields[b][w]);
+      return sum;
+    }, best);
+  });
+  std::vector<FastMarching::Workspace> workspaces(threads);
+  parallel_for(e, threads, [&](int a, int worker) {
+    if (moved_to[a] == anchors.field_vertex[a]) return;
+    auto& ws = workspaces[worker];
+    target.geodesics().compute({moved_to[a]}, ws);
+    anchors.refined_fields[a].resize(target_n);
+    for (int v = 0; v < target_n; ++v)
+      anchors.refined_fields[a][v] = ws.distance[v] == kUnreached ? 1.f : ws.distance[v] * inverse_diameter;
+  });
+  int moved = 0;
+  for (int a = 0; a < e; ++a) {
+    if (moved_to[a] != anchors.field_vertex[a]) {
+      anchors.field_vertex[a] = moved_to[a];
+      anchors.target_fields[a] = anchors.refined_fields[a].data();
+    }
+    if (moved_to[a] != anchors.target_vertex[a]) {
+      anchors.target_vertex[a] = moved_to[a];
+      ++moved;
+    }
+  }
+  return moved;
+}
+
+// Anchor images start where tracking left them (vertex-accurate where it refined them),
+// but their fields are their samples'. Each round moves every anchor's image to the
+// vertex that best agrees with the other anchors and recomputes the field wherever it is
+// not centred on the image, so the dense level starts from vertex-accurate anchors.
+void refine_anchor_images(const PreprocessedShape& target, const Descriptors& source_desc, DenseAnchors& anchors,
+                          int rounds, int threads, const JobControl& control) {
+  for (int round = 0; round < rounds; ++round) {
+    control.check_cancelled();
+    if (move_anchor_images(target, source_desc, anchors, threads) == 0) break;
+  }
+}
+
+// The pairs' vertices as descent seeds, (source, target) forward, else (target, source).
+std::vector<std::pair<int, int>> seeds_of(const PreprocessedShape& source, const PreprocessedShape& target,
+                                          const std::vector<SamplePair>& seed_pairs, bool forward) {
+  std::vector<std::pair<int, int>> seeds;
+  for (const SamplePair& p : seed_pairs) {
+    const int sv = source.sample_vertex(p.source_sample), tv = image_vertex(target, p);
+    seeds.push_back(forward ? std::make_pair(sv, tv) : std::make_pair(tv, sv));
+  }
+  return seeds;
+}
+
+double mean(const std::vector<float>& values) {
+  double sum = 0;
+  for (float v : values) sum += v;
+  return values.empty() ? 0.0 : sum / values.size();
+}
+
 }  // namespace
 
 DenseMap compute_dense_map(const PreprocessedShape& source, const PreprocessedShape& target,
@@ -142,99 +238,33 @@ DenseMap compute_dense_map(const PreprocessedShape& source, const PreprocessedSh
   const std::vector<SamplePair>& pairs = reliable;
   const int e = static_cast<int>(std::min(pairs.size(), static_cast<size_t>(std::max(1, options.anchor_count))));
   const int threads = resolve_thread_count(options.threads);
-  const int source_n = source.mesh().num_vertices(), target_n = target.mesh().num_vertices();
-  std::vector<const float*> source_fields(e), target_fields(e);
-  // target_vertex: an anchor's image; field_vertex: where its target field is centred
-  // (its sample until the field is recomputed at the image).
-  std::vector<int> source_vertex(e), target_vertex(e), field_vertex(e);
-  for (int a = 0; a < e; ++a) {
-    source_fields[a] = source.field_row(pairs[a].source_sample);
-    target_fields[a] = target.field_row(pairs[a].target_sample);
-    source_vertex[a] = source.sample_vertex(pairs[a].source_sample);
-    target_vertex[a] = image_vertex(target, pairs[a]);  // tracking's vertex-accurate image
-    field_vertex[a] = target.sample_vertex(pairs[a].target_sample);
-  }
-  const Descriptors source_desc = build_descriptors(source_n, source_fields);
-
-  // Anchor images start where tracking left them (vertex-accurate where it refined them),
-  // but their fields are their samples'. Each round moves every anchor's image to the
-  // vertex that best agrees with the other anchors and recomputes the field wherever it is
-  // not centred on the image, so the dense level starts from vertex-accurate anchors.
-  std::vector<std::vector<float>> refined_fields(e);
-  const float inverse_diameter = static_cast<float>(1.0 / target.diameter());
-  const MeshTopology& target_topology = target.geodesics().topology();
-  for (int round = 0; round < options.anchor_refinement_rounds; ++round) {
-    control.check_cancelled();
-    std::vector<int> moved_to(e);
-    parallel_for(e, threads, [&](int a, int) {
-      const float* x = source_desc.row(source_vertex[a]);
-      float best = 0;
-      moved_to[a] = descend_to_minimum<CostPrice::kDear>(target_topology, target_vertex[a], [&](int w) {
-        float sum = 0;
-        for (int b = 0; b < e; ++b)
-          if (b != a) sum += std::abs(x[b] - target_fields[b][w]);
-        return sum;
-      }, best);
-    });
-    std::vector<FastMarching::Workspace> workspaces(threads);
-    parallel_for(e, threads, [&](int a, int worker) {
-      if (moved_to[a] == field_vertex[a]) return;
-      auto& ws = workspaces[worker];
-      target.geodesics().compute({moved_to[a]}, ws);
-      refined_fields[a].resize(target_n);
-      for (int v = 0; v < target_n; ++v)
-        refined_fields[a][v] = ws.distance[v] == kUnreached ? 1.f : ws.distance[v] * inverse_diameter;
-    });
-    int moved = 0;
-    for (int a = 0; a < e; ++a) {
-      if (moved_to[a] != field_vertex[a]) {
-        field_vertex[a] = moved_to[a];
-        target_fields[a] = refined_fields[a].data();
-      }
-      if (moved_to[a] != target_vertex[a]) {
-        target_vertex[a] = moved_to[a];
-        ++moved;
-      }
-    }
-    if (moved == 0) break;
-  }
-  const Descriptors target_desc = build_descriptors(target_n, target_fields);
+  DenseAnchors anchors = dense_anchors(source, target, pairs, e);
+  const Descriptors source_desc = build_descriptors(source.mesh().num_vertices(), anchors.source_fields);
+  refine_anchor_images(target, source_desc, anchors, options.anchor_refinement_rounds, threads, control);
+  const Descriptors target_desc = build_descriptors(target.mesh().num_vertices(), anchors.target_fields);
 
   // Seeds start the descent. The pairs dropped as anchors are mostly right on a thin limb
   // (a centaur's arm without seeds was reached from the torso and went to the other arm)
   // and mostly wrong on a non-isometric pair (a cat's misplaced samples pull their
   // neighbourhood), so both seed sets are tried and the forward map with the lower mean
   // d_iso, against the same anchors, is kept.
-  auto seeds_of = [&](const std::vector<SamplePair>& seed_pairs, bool forward) {
-    std::vector<std::pair<int, int>> seeds;
-    for (const SamplePair& p : seed_pairs) {
-      const int sv = source.sample_vertex(p.source_sample), tv = image_vertex(target, p);
-      seeds.push_back(forward ? std::make_pair(sv, tv) : std::make_pair(tv, sv));
-    }
-    return seeds;
-  };
-  auto mean = [](const std::vector<float>& values) {
-    double sum = 0;
-    for (float v : values) sum += v;
-    return values.empty() ? 0.0 : sum / values.size();
-  };
   DenseMap dense;
   const std::vector<SamplePair>* seed_pairs = &pairs;
-  match_direction(source, source_desc, target, target_desc, seeds_of(pairs, true), options.locality, threads,
-                  control, dense.forward, dense.forward_diso);
+  match_direction(source, source_desc, target, target_desc, seeds_of(source, target, pairs, true), options.locality,
+                  threads, control, dense.forward, dense.forward_diso);
   if (all_pairs.size() > pairs.size()) {
     std::vector<int> image;
     std::vector<float> cost;
-    match_direction(source, source_desc, target, target_desc, seeds_of(all_pairs, true), options.locality,
-                    threads, control, image, cost);
+    match_direction(source, source_desc, target, target_desc, seeds_of(source, target, all_pairs, true),
+                    options.locality, threads, control, image, cost);
     if (mean(cost) < mean(dense.forward_diso)) {
       dense.forward.swap(image);
       dense.forward_diso.swap(cost);
       seed_pairs = &all_pairs;
     }
   }
-  match_direction(target, target_desc, source, source_desc, seeds_of(*seed_pairs, false), options.locality, threads,
-                  control, dense.reverse, dense.reverse_diso);
+  match_direction(target, target_desc, source, source_desc, seeds_of(source, target, *seed_pairs, false),
+                  options.locality, threads, control, dense.reverse, dense.reverse_diso);
   return dense;
 }
 
