@@ -93,6 +93,10 @@ class PreprocessedShape {
 
  private:
   PreprocessedShape() = default;
+  // Steps of build: the cleaned mesh, its topology, geodesics, normals, area and mean
+  // edge; then, after the sample hierarchy, each sample's field and the diameter.
+  void clean_and_measure(const TriangleMesh& input, const JobControl& control);
+  void compute_sample_fields(int threads, const JobControl& control);
 
   PreprocessOptions options_;
   CleanMesh clean_;
