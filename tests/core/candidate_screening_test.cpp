@@ -20,7 +20,6 @@ ZoomOutOptions zoomout_options() {
   ZoomOutOptions options;
   options.k_start = 10;
   options.k_end = 60;
-  options.threads = 2;
   return options;
 }
 

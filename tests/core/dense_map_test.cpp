@@ -47,7 +47,6 @@ CreaturePair* DenseMapOnCreature::pair_ = nullptr;
 
 TEST_F(DenseMapOnCreature, TrueSamplePairsGiveTheTrueMapBothWays) {
   DenseOptions options;
-  options.threads = 2;
   const DenseMap map = compute_dense_map(*pair_->source, *pair_->target, true_pairs(), options, JobControl{});
   ASSERT_EQ(map.forward.size(), pair_->truth.size());
   ASSERT_EQ(map.reverse.size(), static_cast<size_t>(pair_->target->mesh().num_vertices()));
@@ -72,7 +71,6 @@ TEST_F(DenseMapOnCreature, ATenthOfThePairsAstrayIsOutvoted) {
     pairs[k].target_sample = 0;
   }
   DenseOptions options;
-  options.threads = 2;
   const DenseMap map = compute_dense_map(*pair_->source, *pair_->target, pairs, options, JobControl{});
   EXPECT_GE(share_within(map.forward, 0.05), 0.95);
 }

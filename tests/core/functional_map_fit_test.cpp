@@ -22,7 +22,6 @@ std::shared_ptr<const PreprocessedShape> blob_with_basis() {
   PreprocessOptions options;
   options.spectral_basis = kBasis;
   options.spectral_samples = 400;
-  options.threads = 2;
   return PreprocessedShape::build(limbed_blob(3), options);
 }
 

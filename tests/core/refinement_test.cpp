@@ -347,7 +347,6 @@ TEST(RigidityPolish, RemovesPerVertexNoiseFromAMapOfARigidCopy) {
   ASSERT_LT(exact_and_near(map.image, copy.permutation, target->geodesics().topology()).first, 0.01);
 
   RigidityOptions options;
-  options.threads = 2;
   rigidity_polish(*source, *target, options, map);
   EXPECT_GE(exact_and_near(map.image, copy.permutation, target->geodesics().topology()).first, 0.99);
   EXPECT_GE(exact_and_near(map.reverse_image, inverse, source->geodesics().topology()).first, 0.99);
@@ -378,7 +377,6 @@ TEST(RigidityPolish, RemovesNoiseFromAPartMapAtTheGivenScale) {
   ASSERT_LT(exact_and_near(map.image, truth, topology).first, 0.01);
 
   RigidityOptions options;
-  options.threads = 2;
   // Target length per source length, 1 / kappa, between the normalised meshes.
   const double kappa = length_ratio_normalised(1 / 1.7, source->clean().normalisation, target->clean().normalisation);
   RigidityPolish(*source, *target, options, 1 / kappa).apply(map);
@@ -432,7 +430,6 @@ TEST(RigidityPolish, PullsBackASmoothTwist) {
   TwistedCopy twist(10);
   const double before = twist.mean_error(twist.map.image);
   RigidityOptions options;
-  options.threads = 2;
   rigidity_polish(*twist.source, *twist.target, options, twist.map);
   EXPECT_LT(twist.mean_error(twist.map.image), 0.5 * before);
 }
@@ -487,17 +484,17 @@ TEST(RigidityPolish, UnfoldsAMirroredSegmentHeldAtBothEnds) {
   ASSERT_GE(mirrored.band.size(), 100u);
   ASSERT_LT(mirrored.band_right(mirrored.map.image), 0.3);
   RigidityOptions options;
-  options.threads = 2;
+  const JobControl two_workers = JobControl().with_threads(2);
 
   SpectralMap folded = mirrored.map;
   options.mirror_repair = false;
-  const MirrorRepair off = rigidity_polish(*mirrored.source, *mirrored.target, options, folded);
+  const MirrorRepair off = rigidity_polish(*mirrored.source, *mirrored.target, options, folded, two_workers);
   EXPECT_EQ(off.segments, 0);
   EXPECT_LT(mirrored.band_right(folded.image), 0.5);
 
   SpectralMap unfolded = mirrored.map;
   options.mirror_repair = true;
-  const MirrorRepair on = rigidity_polish(*mirrored.source, *mirrored.target, options, unfolded);
+  const MirrorRepair on = rigidity_polish(*mirrored.source, *mirrored.target, options, unfolded, two_workers);
   EXPECT_GE(on.reversed_vertices, 50);
   EXPECT_EQ(on.segments, 1);
   EXPECT_TRUE(on.kept);
@@ -508,8 +505,7 @@ TEST(RigidityPolish, UnfoldsAMirroredSegmentHeldAtBothEnds) {
   // The folded and the unfolded polish run side by side on two workers, one after the
   // other on one: the same map either way.
   SpectralMap alone = mirrored.map;
-  options.threads = 1;
-  EXPECT_TRUE(rigidity_polish(*mirrored.source, *mirrored.target, options, alone).kept);
+  EXPECT_TRUE(rigidity_polish(*mirrored.source, *mirrored.target, options, alone, JobControl().with_threads(1)).kept);
   EXPECT_EQ(alone.image, unfolded.image);
   EXPECT_EQ(alone.reverse_image, unfolded.reverse_image);
 }
@@ -523,7 +519,6 @@ TEST(RigidityPolish, UnfoldsOnlyMirroredSegments) {
   truth.image = mirrored.copy.permutation;
   truth.reverse_image = mirrored.map.reverse_image;
   RigidityOptions options;
-  options.threads = 2;
   const RigidityPolish polish(*mirrored.source, *mirrored.target, options);
   SpectralMap untouched = truth;
   EXPECT_EQ(polish.unfold_mirrors(untouched).segments, 0);
@@ -546,7 +541,6 @@ TEST(RigidityPolish, UnfoldsOnlyMirroredSegments) {
 TEST(ZoomOut, CurvaturePolishPullsBackASmoothTwistAndKeepsTheTruth) {
   TwistedCopy twist(10);
   ZoomOutOptions options;
-  options.threads = 2;
   options.polish_k_end = 60;
   twist.map.c = Eigen::MatrixXf::Identity(60, 60);  // the basis size it refits at
   const double before = twist.mean_error(twist.map.image);
@@ -576,20 +570,20 @@ TEST(ZoomOut, CurvaturePolishPullsBackASmoothTwistAndKeepsTheTruth) {
 TEST(ZoomOut, CurvatureInThePolishGrowthKeepsTheTruth) {
   TwistedCopy twist(40);
   ZoomOutOptions options;
-  options.threads = 2;
+  const JobControl two_workers = JobControl().with_threads(2);
   options.polish_k_end = 60;
   ASSERT_GT(options.curvature_candidates, 0);  // on by default
   twist.map.c = Eigen::MatrixXf::Identity(30, 30);  // grown from 30 to 60 functions
   SpectralMap alone = twist.map;
-  ASSERT_TRUE(zoomout_polish(spectral_side(*twist.source), spectral_side(*twist.target), options, twist.map));
+  ASSERT_TRUE(
+      zoomout_polish(spectral_side(*twist.source), spectral_side(*twist.target), options, twist.map, two_workers));
   EXPECT_GE(exact_and_near(twist.map.image, twist.copy.permutation, twist.target->geodesics().topology()).second, 0.995);
   // Its fits' products run side by side on two workers, one after the other on one: the
   // same map either way.
-  options.threads = 1;
-  ASSERT_TRUE(zoomout_polish(spectral_side(*twist.source), spectral_side(*twist.target), options, alone));
+  ASSERT_TRUE(zoomout_polish(spectral_side(*twist.source), spectral_side(*twist.target), options, alone,
+                             JobControl().with_threads(1)));
   EXPECT_EQ(alone.image, twist.map.image);
   EXPECT_EQ(alone.reverse_image, twist.map.reverse_image);
-  options.threads = 2;
 
   SpectralMap truth;
   truth.image = twist.copy.permutation;
@@ -606,7 +600,6 @@ TEST(FinalPolish, KeptWhereTheCurvatureAgreesBetterOnly) {
   TwistedCopy twist(20);
   RigidityOptions options;
   options.iterations = 2;
-  options.threads = 2;
   rigidity_polish(*twist.source, *twist.target, options, twist.map);
   const double before = twist.mean_error(twist.map.image);
   ASSERT_GT(before, 0);

@@ -10,7 +10,6 @@ inline PreprocessOptions spectral_options() {
   PreprocessOptions options;
   options.spectral_basis = 60;
   options.spectral_samples = 800;
-  options.threads = 2;
   return options;
 }
 

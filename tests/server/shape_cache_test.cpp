@@ -14,9 +14,7 @@ namespace isocorr::server {
 namespace {
 
 ShapeCache::ShapePtr small_shape() {
-  PreprocessOptions options;
-  options.threads = 1;
-  return PreprocessedShape::build(limbed_blob(2), options);
+  return PreprocessedShape::build(limbed_blob(2), PreprocessOptions(), JobControl().with_threads(1));
 }
 
 TEST(ShapeCache, ConcurrentRequestsForOneKeyBuildOnce) {

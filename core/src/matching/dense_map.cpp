@@ -237,7 +237,7 @@ DenseMap compute_dense_map(const PreprocessedShape& source, const PreprocessedSh
   const std::vector<SamplePair> reliable = drop_least_consistent(source, target, all_pairs, options.outlier_fraction, options.outlier_ratio);
   const std::vector<SamplePair>& pairs = reliable;
   const int e = static_cast<int>(std::min(pairs.size(), static_cast<size_t>(std::max(1, options.anchor_count))));
-  const int threads = resolve_thread_count(options.threads);
+  const int threads = resolve_thread_count(control.threads);
   DenseAnchors anchors = dense_anchors(source, target, pairs, e);
   const Descriptors source_desc = build_descriptors(source.mesh().num_vertices(), anchors.source_fields);
   refine_anchor_images(target, source_desc, anchors, options.anchor_refinement_rounds, threads, control);

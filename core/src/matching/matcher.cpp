@@ -81,8 +81,7 @@ std::vector<TrackedMap> track_level0_maps(const PreprocessedShape& source, const
   const int tracked_count = std::min<int>(
       level0.maps.size(), std::clamp(level0.tracked_by_jump_rule, settings.min_tracked, settings.max_tracked));
   std::vector<TrackedMap> tracked(tracked_count);
-  TrackingOptions tracking = settings.tracking;
-  tracking.threads = 1;
+  const TrackingOptions& tracking = settings.tracking;
   const TrackingPlan plan = plan_tracking(source, m, levels, tracking);
   std::atomic<int> done{0};
   parallel_for(tracked_count, threads, [&](int i, int) {
@@ -148,7 +147,7 @@ DenseMap match_whole(const PreprocessedShape& source, const PreprocessedShape& t
   StageClock clock(result.timings.stages);
   const int levels = std::min(source.options().decision_level, target.options().decision_level);
   const int total_levels = levels + 1;  // levels 0..K1, then the dense level
-  const int threads = resolve_thread_count(settings.threads);
+  const int threads = resolve_thread_count(control.threads);
 
   control.report({"level0", 0, total_levels, 0.0});
   const int m = search_level0_maps(source, target, settings, threads, result.diagnostics.level0);
@@ -163,9 +162,7 @@ DenseMap match_whole(const PreprocessedShape& source, const PreprocessedShape& t
   if (settings.refine == RefineMethod::kNone) {
     // The C2F dense level from the chosen map only.
     control.report({"dense", total_levels, total_levels, 0.7});
-    DenseOptions dense_options = settings.dense;
-    dense_options.threads = threads;
-    DenseMap dense = compute_dense_map(source, target, tracking.maps[tracking.chosen].pairs, dense_options, control);
+    DenseMap dense = compute_dense_map(source, target, tracking.maps[tracking.chosen].pairs, settings.dense, control);
     clock.finish("dense");
     return dense;
   }

@@ -59,8 +59,7 @@ void polish_part_map(const PreprocessedShape& source, const PreprocessedShape& t
                      double scale, int threads, DenseMap& map, const JobControl& control) {
   SpectralMap polished;  // no reverse_image: a part's reverse map is made from the forward one
   polished.image = std::move(map.forward);
-  options.threads = threads;
-  RigidityPolish(source, target, options, 1.0 / scale).apply(polished, control);
+  RigidityPolish(source, target, options, 1.0 / scale).apply(polished, control.with_threads(threads));
   map.forward = std::move(polished.image);
   map.forward_diso = std::move(polished.residual);
 }
@@ -73,7 +72,7 @@ class PartSearch {
   PartSearch(const PreprocessedShape& source, const PreprocessedShape& target, const MatchSettings& settings,
              MatchResult& result, const JobControl& control)
       : source_(source), target_(target), settings_(settings), result_(result), control_(control),
-        part_(source, target), threads_(resolve_thread_count(settings.threads)),
+        part_(source, target), threads_(resolve_thread_count(control.threads)),
         finish_(finishes_part_maps(settings)), clock_(result.timings.stages) {}
 
   // Steps 1 and 2: the extremity maps the search starts from, by RAVAC or the part search.
@@ -244,9 +243,8 @@ class PartSearch {
   // folds a limb over (SCAPE 000 -> 002's 47% ball: a right map's orientation 0.79 -> 0.35)
   // is dropped, as the rigidity polish could not undo it. Both are compared unpolished.
   bool refine_if_better(int i, int workers, std::vector<int>& forward) {
-    ZoomOutOptions options = settings_.zoomout;
-    options.threads = workers;
-    std::vector<int> refined = refine_part_map_spectrally(source_, target_, scales_[i], options, forward, control_);
+    std::vector<int> refined = refine_part_map_spectrally(source_, target_, scales_[i], settings_.zoomout, forward,
+                                                          control_.with_threads(workers));
     const double orientation =
         dense_orientation_agreement(source_.mesh(), source_.normals(), target_.mesh(), target_.normals(), refined);
     const bool kept = orientation >= settings_.orientation_threshold &&
@@ -294,11 +292,9 @@ DenseMap match_part(const PreprocessedShape& source, const PreprocessedShape& ta
 DenseMap refine_as_part_map(const PreprocessedShape& source, const PreprocessedShape& target,
                             const MatchSettings& settings, double scale, const std::vector<int>& forward,
                             const JobControl& control) {
-  const int threads = resolve_thread_count(settings.threads);
-  ZoomOutOptions options = settings.zoomout;
-  options.threads = threads;
+  const int threads = resolve_thread_count(control.threads);
   DenseMap map;
-  map.forward = refine_part_map_spectrally(source, target, scale, options, forward, control);
+  map.forward = refine_part_map_spectrally(source, target, scale, settings.zoomout, forward, control);
   polish_part_map(source, target, settings.rigidity, scale, threads, map, control);
   return map;
 }

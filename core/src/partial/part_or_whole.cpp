@@ -50,7 +50,7 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
                               e.what());
     return part;
   }
-  const int threads = resolve_thread_count(settings.threads);
+  const int threads = resolve_thread_count(control.threads);
   std::vector<PartMapEvidence> evidence = measure_part_maps(source, target, {&part.forward, &whole.forward}, threads);
   // The complete pipeline's map refined as a part's (its ZoomOut fitted a square C, as if the
   // part were whole), kept if it then agrees better in curvature and keeps handedness.

@@ -42,8 +42,10 @@ std::shared_ptr<const PreprocessedShape> MeshPairShapes::shape(ShapeRole role, c
 
 MatchResult run_match(ShapeProvider& shapes, const MatchSettings& settings, const JobControl& control) {
   settings.validate();
-  PreprocessOptions options = settings.preprocess;
-  options.threads = settings.threads;  // the one thread rule: the match's setting, 0 = all cores
+  const PreprocessOptions& options = settings.preprocess;
+  // The one thread rule: the match's setting, 0 = all cores, for every stage below.
+  JobControl run_control = control;
+  run_control.threads = settings.threads;
 
   std::vector<StageTiming> timings;
   StageClock clock(timings);
@@ -52,16 +54,16 @@ MatchResult run_match(ShapeProvider& shapes, const MatchSettings& settings, cons
   // geodesic work, so one side alone leaves a core idle for much of its time (michael0 ->
   // michael1, 52K vertices, 2 cores: 17.2 s one after the other, 14.6 s at once). The
   // target's stage then times only what is left of it.
-  auto target_shape = std::async(std::launch::async, [&shapes, &options, &control] {
-    return shape_naming_failures(shapes, ShapeRole::kTarget, options, control);
+  auto target_shape = std::async(std::launch::async, [&shapes, &options, &run_control] {
+    return shape_naming_failures(shapes, ShapeRole::kTarget, options, run_control);
   });
-  const auto source = shape_naming_failures(shapes, ShapeRole::kSource, options, control);
+  const auto source = shape_naming_failures(shapes, ShapeRole::kSource, options, run_control);
   clock.finish("preprocess-source");
   control.report({"preprocess-target", 0, 0, kPreprocessShare});
   const auto target = target_shape.get();
   clock.finish("preprocess-target");
 
-  JobControl match_control = control.cancellation_only();
+  JobControl match_control = run_control.cancellation_only();
   match_control.on_progress = [&](const Progress& p) {
     Progress scaled = p;
     scaled.fraction = 2 * kPreprocessShare + (1 - 2 * kPreprocessShare) * p.fraction;

@@ -42,17 +42,16 @@ std::vector<ScreenedStart> screen_tracked_maps(const PreprocessedShape& source, 
   // The starts are independent: each is screened whole on one worker (its own loops on one
   // thread), which keeps both cores busy where the screen's small per-iteration loops
   // could not (a 5K pair's 32 starts: about 1.1 s on one core).
-  ZoomOutOptions one_thread = options;
-  one_thread.threads = 1;
+  const JobControl one_thread = control.with_threads(1);
   std::vector<ScreenedStart> screened(starts.size());
-  parallel_for(static_cast<int>(starts.size()), resolve_thread_count(options.threads), [&](int i, int) {
+  parallel_for(static_cast<int>(starts.size()), resolve_thread_count(control.threads), [&](int i, int) {
     const int index = starts[i];
     std::vector<std::pair<int, int>> start;
     for (const SamplePair& p : tracked[index].pairs)
       start.emplace_back(source.sample_vertex(p.source_sample), image_vertex(target, p));
     ScreenedStart& s = screened[i];
     s.evidence.tracked_index = index;
-    s.sampled = zoomout_on_samples(source_side, target_side, start, k_end, one_thread, control);
+    s.sampled = zoomout_on_samples(source_side, target_side, start, k_end, options, one_thread);
     s.evidence.orientation = dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
                                                          target.normals(),
                                                          spread_sample_map(nearest_sample, s.sampled.images));

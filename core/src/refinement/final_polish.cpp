@@ -12,9 +12,8 @@ FinalPolishOutcome extend_rigidity_polish(const PreprocessedShape& source, const
   if (iterations <= 0) return outcome;
   RigidityOptions options;
   options.iterations = iterations;
-  options.threads = threads;
   SpectralMap longer = map;
-  RigidityPolish(source, target, options).apply(longer, control);
+  RigidityPolish(source, target, options).apply(longer, control.with_threads(threads));
   outcome.curvature_before = curvature_disagreement(source, target, map.image);
   outcome.curvature_after = curvature_disagreement(source, target, longer.image);
   outcome.kept = outcome.curvature_after < outcome.curvature_before;

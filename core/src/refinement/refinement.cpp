@@ -57,12 +57,6 @@ void require_spectral_bases(const PreprocessedShape& source, const PreprocessedS
     throw InputError("refinement needs the shapes' spectral basis: spectral_basis must be positive");
 }
 
-RigidityOptions rigidity_options(const MatchSettings& settings) {
-  RigidityOptions options = settings.rigidity;
-  options.threads = settings.threads;
-  return options;
-}
-
 // What finishing one map did.
 struct Finishing {
   OutlierRepair repair;
@@ -105,12 +99,11 @@ void spectral_polish(const SpectralSide& source_side, const SpectralSide& target
 SpectralMap refine_from_pairs_with(const PreprocessedShape& source, const PreprocessedShape& target,
                                    const RigidityPolish& rigidity, const std::vector<std::pair<int, int>>& pairs,
                                    const MatchSettings& settings, const JobControl& control) {
-  ZoomOutOptions options = settings.zoomout;
-  options.threads = settings.threads;
+  const ZoomOutOptions& options = settings.zoomout;
   const SpectralSide source_side = spectral_side(source), target_side = spectral_side(target);
   SpectralMap map = zoomout(source_side, target_side, pairs, options, control);
   auto finish = [&] {
-    finish_map_with_mirror_repair(source, target, rigidity, settings, map, control, settings.threads);
+    finish_map_with_mirror_repair(source, target, rigidity, settings, map, control, control.threads);
   };
   finish();
   spectral_polish(source_side, target_side, options, map, control, finish);
@@ -137,14 +130,14 @@ SpectralMap refine_from_pairs(const PreprocessedShape& source, const Preprocesse
                               const std::vector<std::pair<int, int>>& pairs, const MatchSettings& settings,
                               const JobControl& control) {
   require_spectral_bases(source, target);
-  const RigidityPolish rigidity(source, target, rigidity_options(settings));
+  const RigidityPolish rigidity(source, target, settings.rigidity);
   return refine_from_pairs_with(source, target, rigidity, pairs, settings, control);
 }
 
 SpectralMap refine_again(const PreprocessedShape& source, const PreprocessedShape& target, const SpectralMap& map,
                          const MatchSettings& settings, const JobControl& control) {
   require_spectral_bases(source, target);
-  const RigidityPolish rigidity(source, target, rigidity_options(settings));
+  const RigidityPolish rigidity(source, target, settings.rigidity);
   return refine_again_with(source, target, rigidity, map, settings, control);
 }
 
@@ -170,8 +163,8 @@ class CandidateRefinement {
   CandidateRefinement(const PreprocessedShape& source, const PreprocessedShape& target, const MatchSettings& settings,
                       const JobControl& control)
       : source_(source), target_(target), settings_(settings), control_(control),
-        options_(zoomout_options(settings)), source_side_(spectral_side(source)),
-        target_side_(spectral_side(target)), threads_(resolve_thread_count(settings.threads)),
+        options_(settings.zoomout), source_side_(spectral_side(source)),
+        target_side_(spectral_side(target)), threads_(resolve_thread_count(control.threads)),
         clock_(result_.timings) {}
 
   // The picked tracked maps are screened by a short refinement on the samples;
@@ -192,13 +185,12 @@ class CandidateRefinement {
   // refinements 2.6 s). Every result is the same whatever the number of workers.
   void refine() {
     // The pair's rigidity system (three sparse factors), built once the screen is done.
-    rigidity_.emplace(source_, target_, rigidity_options(settings_));
+    rigidity_.emplace(source_, target_, settings_.rigidity);
     refined_starts_.resize(starts_.size());
     parallel_for_sharing(static_cast<int>(starts_.size()), threads_, [&](int i, int workers) {
-      ZoomOutOptions shared_out = options_;
-      shared_out.threads = workers;
-      continue_on_samples(source_side_, target_side_, options_.k_end, shared_out, starts_[i].sampled, control_);
-      refined_starts_[i] = zoomout_dense(source_side_, target_side_, starts_[i].sampled, shared_out, control_);
+      const JobControl shared = control_.with_threads(workers);
+      continue_on_samples(source_side_, target_side_, options_.k_end, options_, starts_[i].sampled, shared);
+      refined_starts_[i] = zoomout_dense(source_side_, target_side_, starts_[i].sampled, options_, shared);
     });
     control_.check_cancelled();
     clock_.finish("refine");
@@ -274,8 +266,8 @@ class CandidateRefinement {
     const int chosen = result_.chosen =
         choose_dense_candidate(result_.candidates, settings_.orientation_margin, result_.why);
     if (!finished_[chosen]) {
-      finishings_[chosen] = finish_one(maps_[chosen], settings_.threads);
-      measure(chosen, settings_.threads);
+      finishings_[chosen] = finish_one(maps_[chosen], control_.threads);
+      measure(chosen, control_.threads);
     }
     last_ = finishings_[chosen];
     clock_.finish("choose");
@@ -320,7 +312,7 @@ class CandidateRefinement {
   // mirror repair.
   void finish_with_mirror_repair() {
     if (polished_ || result_.mirror_repair_chosen.segments > 0)
-      last_ = finish_one_with_mirror_repair(winner(), settings_.threads);
+      last_ = finish_one_with_mirror_repair(winner(), control_.threads);
     result_.repair = last_.repair;
     result_.mirror_repair = last_.mirror_repair;
     clock_.finish("finish_with_mirror_repair");
@@ -336,7 +328,7 @@ class CandidateRefinement {
   // settings.rigidity_final_iterations more rigidity iterations (final_polish.h).
   void final_polish() {
     result_.final_polish = extend_rigidity_polish(source_, target_, settings_.rigidity_final_iterations,
-                                                  settings_.threads, winner(), control_);
+                                                  control_.threads, winner(), control_);
     clock_.finish("final_polish");
   }
 
@@ -352,11 +344,6 @@ class CandidateRefinement {
   }
 
  private:
-  static ZoomOutOptions zoomout_options(const MatchSettings& settings) {
-    ZoomOutOptions options = settings.zoomout;
-    options.threads = settings.threads;
-    return options;
-  }
   SpectralMap& winner() { return maps_[result_.chosen]; }
   Finishing finish_one(SpectralMap& map, int threads) const {
     return finish_map(source_, target_, *rigidity_, settings_, map, control_, threads);

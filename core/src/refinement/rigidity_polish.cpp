@@ -233,8 +233,8 @@ MirrorRepair rigidity_polish(const PreprocessedShape& source, const Preprocessed
 }
 
 MirrorRepair RigidityPolish::apply(SpectralMap& map, const JobControl& control) const {
-  if (options_.mirror_repair) return polish_with_mirror_repair(map, control, options_.threads);
-  polish(map, control, options_.threads);
+  if (options_.mirror_repair) return polish_with_mirror_repair(map, control, control.threads);
+  polish(map, control, control.threads);
   return {};
 }
 

@@ -231,12 +231,13 @@ int within_bases(int k, const SpectralSide& source, const SpectralSide& target) 
   return std::min<int>({k, static_cast<int>(source.basis->cols()), static_cast<int>(target.basis->cols())});
 }
 
-FunctionalMapFit fit_settings(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options) {
+FunctionalMapFit fit_settings(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options,
+                              int threads) {
   FunctionalMapFit fit;
   fit.source_eigenvalues = source.eigenvalues;
   fit.target_eigenvalues = target.eigenvalues;
   fit.commutativity = options.commutativity;
-  fit.threads = resolve_thread_count(options.threads);
+  fit.threads = threads;
   return fit;
 }
 
@@ -338,8 +339,8 @@ void grow_on_samples(const SpectralSide& source, const SpectralSide& target, int
   const RowMatrix& phi_t = *target.basis;
   const std::vector<int>& source_samples = *source.samples;
   const std::vector<int>& target_samples = *target.samples;
-  const int threads = resolve_thread_count(options.threads);
-  const FunctionalMapFit fit = fit_settings(source, target, options);
+  const int threads = resolve_thread_count(control.threads);
+  const FunctionalMapFit fit = fit_settings(source, target, options, threads);
   for (int k = k_first;; k = std::min(k + std::max(1, options.k_step), k_end)) {
     control.check_cancelled();
     const RowMatrix source_rows = gather_rows(phi_s, source_samples, source_size(k, options));
@@ -378,7 +379,7 @@ void sharpen_on_samples(const SpectralSide& source, const SpectralSide& target, 
   const std::vector<int>& samples = *source.samples;
   const RowMatrix& phi_t = *target.basis;
   FunctionalMapFit fit;
-  fit.threads = resolve_thread_count(options.threads);
+  fit.threads = resolve_thread_count(control.threads);
   const RowMatrix source_rows = gather_rows(*source.basis, samples, k);
   std::vector<int> before;
   for (int iteration = 0; iteration < options.curvature_iterations; ++iteration) {
@@ -437,7 +438,7 @@ SampleMap zoomout_on_samples(const SpectralSide& source, const SpectralSide& tar
   SampleMap map;
   map.c = fit_functional_map(gather_rows(*source.basis, from, source_size(k_start, options)),
                              gather_rows(*target.basis, to, k_start),
-                             fit_settings(source, target, options));
+                             fit_settings(source, target, options, resolve_thread_count(control.threads)));
   map.images.assign(source.samples->size(), 0);
   grow_on_samples(source, target, k_start, k_end, options, map, control);
   return map;
@@ -462,8 +463,8 @@ SpectralMap zoomout_dense(const SpectralSide& source, const SpectralSide& target
   // every vertex (the samples fix C's low-frequency part; all vertices sharpen the last
   // basis functions).
   const int k = static_cast<int>(sampled.c.cols());
-  const int threads = resolve_thread_count(options.threads);
-  const FunctionalMapFit fit = fit_settings(source, target, options);
+  const int threads = resolve_thread_count(control.threads);
+  const FunctionalMapFit fit = fit_settings(source, target, options, threads);
   SpectralMap result;
   result.c = sampled.c;
   const RowsView source_rows = source.basis->leftCols(sampled.c.rows());
@@ -516,7 +517,7 @@ SpectralMap curvature_polish(const SpectralSide& source, const SpectralSide& tar
   const std::optional<CurvatureTerm> curvature = curvature_term(source, target, options);
   if (!curvature) throw std::logic_error("curvature_polish: no curvature term (has_curvature_polish)");
   sharpen_on_samples(source, target, *curvature, options, sampled, control);
-  return sharpened_dense(source, target, *curvature, sampled, resolve_thread_count(options.threads), control);
+  return sharpened_dense(source, target, *curvature, sampled, resolve_thread_count(control.threads), control);
 }
 
 bool zoomout_polish(const SpectralSide& source, const SpectralSide& target, const ZoomOutOptions& options,

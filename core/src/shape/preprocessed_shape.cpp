@@ -66,7 +66,7 @@ std::shared_ptr<const PreprocessedShape> PreprocessedShape::build(const Triangle
   shape->options_ = options;
   shape->clean_and_measure(input, control);
 
-  const int threads = resolve_thread_count(options.threads);
+  const int threads = resolve_thread_count(control.threads);
   // The eigensolver is sequential; with two or more threads it runs beside the geodesic
   // work below instead of after it (michael0, 52K vertices: 13.6 s -> see the commit).
   // It checks `control` too: a cancelled job must not wait for it (the future's

@@ -23,7 +23,6 @@ struct DenseOptions {
   int anchor_refinement_rounds = 2;  // rounds moving anchor images to vertex accuracy
   double locality = 0.05;  // anchors weigh 1 / (distance + locality): near ones count more
                            // (0 = plain d_iso); distances are fractions of the diameter
-  int threads = 0;
 };
 
 struct DenseMap {

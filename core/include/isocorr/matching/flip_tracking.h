@@ -19,7 +19,6 @@ struct TrackingOptions {
                                // sample (robust to misplaced anchors and non-isometric parts)
   bool pool_all_levels = true;  // offer every target sample at every level
   bool handedness_guard = true;  // a new pair must keep the handedness of nearby pairs
-  int threads = 0;
 };
 
 struct TrackedMap {

@@ -37,7 +37,6 @@ struct RigidityOptions {
   // Also polish from the map with its mirrored limb segments placed again, and keep the
   // lower-energy result (see above).
   bool mirror_repair = true;
-  int threads = 0;
 };
 
 // What the mirror repair of one polish found and did.
@@ -66,10 +65,10 @@ class RigidityPolish {
   // deformed position and its image, divided by the target's diameter. map.c is kept.
   // An empty map.reverse_image asks for the forward map only (a part's reverse map marks
   // target vertices without a counterpart, which the nearest deformed vertex cannot).
-  // Deterministic; `control` is checked between iterations. On the options' threads, and
+  // Deterministic; `control` is checked between iterations. On control.threads, and
   // with the mirror repair (polish_with_mirror_repair) when the options ask for it.
   MirrorRepair apply(SpectralMap& map, const JobControl& control = {}) const;
-  // The polish alone, on `threads` workers (0 = all cores) instead of the options' count (a
+  // The polish alone, on `threads` workers (0 = all cores) instead of control.threads (a
   // match that finishes several maps side by side shares its workers out among them).
   void polish(SpectralMap& map, const JobControl& control, int threads) const;
   // The polish from the map and, side by side, from the map with its mirrored segments

@@ -54,7 +54,6 @@ struct ZoomOutOptions {
   // whole's (i / share)-th (Weyl's law), so C is fitted as share*k by k. No commutativity
   // term then (its spectra are not one shape's).
   double source_share = 1;
-  int threads = 0;
 };
 
 // One side of the problem: a basis (V x K, row-major floats for fast row distances), the

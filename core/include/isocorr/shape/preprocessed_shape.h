@@ -35,7 +35,6 @@ struct PreprocessOptions {
   int spectral_samples = 2000;  // evenly spread vertices the refinement iterates on
   int spectral_cells = 0;       // meshes with more vertices solve the eigenproblem on this
                                 // many cells (reduced_laplace_basis.h); 0 = never
-  int threads = 0;              // 0 = all cores
 
   // Cache key part: two option sets with equal keys give identical preprocessing.
   std::string key() const;

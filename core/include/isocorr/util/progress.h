@@ -24,6 +24,9 @@ struct JobControl {
   std::function<void(const Progress&)> on_progress;  // may run on several threads at once
   const std::atomic<bool>* cancel_requested = nullptr;
   Clock::time_point deadline = Clock::time_point::max();  // the work ends with DeadlineExceeded past it
+  // Workers the work may use (0 = all cores). How a call runs, not what it computes: no
+  // result depends on it, so it lives here and not in any options struct.
+  int threads = 0;
 
   void report(const Progress& progress) const {
     if (on_progress) on_progress(progress);
@@ -33,11 +36,19 @@ struct JobControl {
     if (cancel_requested && cancel_requested->load(std::memory_order_relaxed)) throw Cancelled();
     if (deadline != Clock::time_point::max() && Clock::now() > deadline) throw DeadlineExceeded();
   }
-  // The same cancellation and deadline, without progress.
+  // The same cancellation, deadline and workers, without progress.
   JobControl cancellation_only() const {
     JobControl control;
     control.cancel_requested = cancel_requested;
     control.deadline = deadline;
+    control.threads = threads;
+    return control;
+  }
+  // The same control on `workers` workers: a stage that runs several calls side by side
+  // shares its workers out among them.
+  JobControl with_threads(int workers) const {
+    JobControl control = *this;
+    control.threads = workers;
     return control;
   }
 };
