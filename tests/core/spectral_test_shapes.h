@@ -1,5 +1,5 @@
 // Preprocessing options shared by the tests of spectral refinement: a basis and sample
-// count small enough for the procedural meshes, on two threads.
+// count small enough for the procedural meshes.
 #pragma once
 
 #include "isocorr/shape/preprocessed_shape.h"
