@@ -1,5 +1,6 @@
-// The subcommands that call isocorr-server, one per API call: upload, submit, status,
-// watch, wait, cancel, download, list, delete, health.
+// The subcommands that call isocorr-server, one per API call, each in its own
+// <name>_command.cpp: upload, submit, status, watch, wait, cancel, download, list, delete,
+// health.
 #pragma once
 
 #include "commands.h"
