@@ -1,4 +1,4 @@
-// `isocorr eval MAP --source S --target T [--dataset DIR] [--gt-kind K]`: scores a map against
+// `isocorr eval SOURCE TARGET MAP [--dataset DIR] [--gt-kind K]`: scores a map against
 // ground truth.
 #include <filesystem>
 
@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "argument_order.h"
 #include "commands.h"
 #include "isocorr/eval/ground_truth.h"
 #include "isocorr/eval/metrics.h"
@@ -18,8 +19,10 @@
 namespace isocorr::cli {
 namespace {
 
+constexpr const char* kUsage = "isocorr eval SOURCE TARGET MAP";
+
 struct EvalArguments {
-  std::string map, dataset, source, target, gt_kind, errors_out;
+  std::string source, target, map, dataset, gt_kind, errors_out;
   int max_points = 2000;
   bool json = false;
 };
@@ -37,6 +40,7 @@ void write_point_errors(const std::string& path, const GroundTruthScore& score) 
 
 int run_eval(const EvalArguments& args) {
   try {
+    check_meshes_before_map(kUsage, args.source, args.map);
     // Mesh paths are taken as given when absolute or when there is no dataset folder.
     const std::filesystem::path dataset = args.dataset.empty() ? "." : args.dataset;
     BenchmarkPair pair{(dataset / args.source).lexically_normal().string(),
@@ -98,9 +102,17 @@ int run_eval(const EvalArguments& args) {
 void register_eval_command(CLI::App& app, int& exit_code) {
   auto args = std::make_shared<EvalArguments>();
   CLI::App* cmd = app.add_subcommand("eval", "score a map against a benchmark dataset's ground truth");
-  cmd->add_option("map", args->map, "map file written by `isocorr match`")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--source", args->source, "source mesh (relative paths: to the dataset folder if given)")->required();
-  cmd->add_option("--target", args->target, "target mesh (relative paths: to the dataset folder if given)")->required();
+  cmd->add_option("source", args->source, "source mesh (relative paths: to the dataset folder if given)")->required();
+  cmd->add_option("target", args->target, "target mesh (relative paths: to the dataset folder if given)")->required();
+  // Not checked for existence here: the map-first order would be refused as a missing map
+  // before run_eval could name the order.
+  cmd->add_option("map", args->map, "source-to-target map written by `isocorr match`")->required();
+  // The meshes were once --source and --target flags: those say the order instead of
+  // leaving CLI11 to report a missing positional.
+  for (const char* old_flag : {"--source", "--target"})
+    cmd->add_option_function<std::string>(old_flag, [old_flag](const std::string&) {
+         throw CLI::ValidationError(std::string(old_flag) + " is gone, the meshes are positional: `" + kUsage + "`");
+       })->group("");
   cmd->add_option("--dataset", args->dataset,
                   "dataset folder: relative mesh and ground-truth paths start there, and its pairs.tsv gives the "
                   "ground-truth kind when --gt-kind is not given (e.g. ../shared/data/tosca_hires)")

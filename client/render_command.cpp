@@ -1,8 +1,9 @@
-// `isocorr render MAP SOURCE TARGET -o pair.png`: a picture of a map, to see at a glance
+// `isocorr render SOURCE TARGET MAP -o pair.png`: a picture of a map, to see at a glance
 // whether it is right, wrong or mirrored.
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
+#include "argument_order.h"
 #include "commands.h"
 #include "isocorr/output/map_files.h"
 #include "isocorr/render/pair_picture.h"
@@ -15,12 +16,13 @@ namespace isocorr::cli {
 namespace {
 
 struct RenderArguments {
-  std::string map, source, target, output;
+  std::string source, target, map, output;
   PairPictureOptions picture;
 };
 
 int run_render(const RenderArguments& args) {
   try {
+    check_meshes_before_map("isocorr render SOURCE TARGET MAP", args.source, args.map);
     const std::vector<int> map = read_map(args.map);
     const LoadedMesh source = load_mesh_file("source", args.source);
     const LoadedMesh target = load_mesh_file("target", args.target);
@@ -43,10 +45,10 @@ void register_render_command(CLI::App& app, int& exit_code) {
   CLI::App* cmd = app.add_subcommand(
       "render", "draw source (left) and target (right) side by side as a PNG: the target coloured by position, "
                 "the source through the map");
-  cmd->add_option("map", args->map, "source-to-target map written by `isocorr match` (text or .bin)")
-      ->required()->check(CLI::ExistingFile);
   cmd->add_option("source", args->source, "source mesh (OFF, OBJ, PLY)")->required()->check(CLI::ExistingFile);
   cmd->add_option("target", args->target, "target mesh (OFF, OBJ, PLY)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("map", args->map, "source-to-target map written by `isocorr match` (text or .bin)")
+      ->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", args->output, "PNG file to write")->required();
   cmd->add_option("--width", args->picture.width, "picture width in pixels (each mesh gets half)")
       ->check(CLI::Range(16, 8192))->capture_default_str();

@@ -8,6 +8,6 @@ out="$here/build/demo"
 "$here/build/tools/isocorr-make-examples" "$out"
 "$here/build/client/isocorr" match "$out/meshes/creature.ply" "$out/meshes/creature_moved.ply" \
   -o "$out/creature.map" --reverse-out "$out/creature.reverse.map" --report "$out/creature.report.json"
-"$here/build/client/isocorr" eval "$out/creature.map" --dataset "$out" \
-  --source meshes/creature.ply --target meshes/creature_moved.ply
+"$here/build/client/isocorr" eval meshes/creature.ply meshes/creature_moved.ply "$out/creature.map" \
+  --dataset "$out"
 echo "demo: map, reverse map and JSON report are in $out"

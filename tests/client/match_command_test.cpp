@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "isocorr/version.h"
-#include "shell_run.h"
+#include "example_dataset.h"
 
 namespace {
 
@@ -25,21 +25,10 @@ std::vector<int> read_lines(const fs::path& path) {
   return values;
 }
 
-class MatchCommand : public ::testing::Test {
+class MatchCommand : public isocorr::testing::ExampleDatasetTest<3> {
  protected:
-  static void SetUpTestSuite() {
-    dir_ = new fs::path(fs::temp_directory_path() / ("isocorr_cli_test_" + std::to_string(getpid())));
-    fs::create_directories(*dir_);
-    ASSERT_EQ(run_shell(std::string(ISOCORR_MAKE_EXAMPLES_PATH) + " " + dir_->string() + " --subdivisions 3").exit_code, 0);
-  }
-  static void TearDownTestSuite() {
-    fs::remove_all(*dir_);
-    delete dir_;
-  }
-  static fs::path* dir_;
   const std::string cli_ = ISOCORR_CLI_PATH;
 };
-fs::path* MatchCommand::dir_ = nullptr;
 
 TEST_F(MatchCommand, WritesMapsAndReportThatEvalScores) {
   const fs::path map = *dir_ / "out.map", reverse = *dir_ / "out.reverse.map", report = *dir_ / "report.json";
@@ -84,21 +73,12 @@ TEST_F(MatchCommand, WritesMapsAndReportThatEvalScores) {
   EXPECT_NE(match.output.find("chose tracked map " + std::to_string(json["chosen"].get<int>()) + " "), std::string::npos)
       << match.output;
 
-  const ShellRun eval = run_shell(cli_ + " eval " + map.string() + " --dataset " + dir_->string() +
-                       " --source meshes/creature.ply --target meshes/creature_moved.ply --json");
+  const ShellRun eval = run_shell(cli_ + " eval meshes/creature.ply meshes/creature_moved.ply " + map.string() +
+                                  " --dataset " + dir_->string() + " --json");
   ASSERT_EQ(eval.exit_code, 0) << eval.output;
   const nlohmann::json score = nlohmann::json::parse(eval.output.substr(eval.output.find('{')));
   EXPECT_TRUE(score["flip_free"].get<bool>());
   EXPECT_LT(score["d_grd"].get<double>(), 0.01);
-
-  // Without a dataset folder: absolute mesh paths and a ground-truth kind naming its file.
-  const ShellRun alone = run_shell(cli_ + " eval " + map.string() + " --source " +
-                                   (*dir_ / "meshes/creature.ply").string() + " --target " +
-                                   (*dir_ / "meshes/creature_moved.ply").string() + " --gt-kind index_map:" +
-                                   (*dir_ / "gt/creature_to_moved.txt").string() + " --json");
-  ASSERT_EQ(alone.exit_code, 0) << alone.output;
-  const nlohmann::json same = nlohmann::json::parse(alone.output.substr(alone.output.find('{')));
-  EXPECT_EQ(same["d_grd"], score["d_grd"]);
 }
 
 // A map that could not be written is said before the match runs, naming the directory.
@@ -158,7 +138,8 @@ TEST_F(MatchCommand, CutPartMatchesWithPartialAndItsReverseMapMarksTheRest) {
   EXPECT_GE(finalists, 1);
   EXPECT_LE(finalists, 6);
 
-  const ShellRun eval = run_shell(cli_ + " eval " + map.string() + " --dataset " + dir_->string() + " --source meshes/part.ply --target meshes/creature_moved.ply --gt-kind index_map:gt/part_to_moved.txt --json");
+  const ShellRun eval = run_shell(cli_ + " eval meshes/part.ply meshes/creature_moved.ply " + map.string() +
+                                  " --dataset " + dir_->string() + " --gt-kind index_map:gt/part_to_moved.txt --json");
   ASSERT_EQ(eval.exit_code, 0) << eval.output;
   const nlohmann::json score = nlohmann::json::parse(eval.output.substr(eval.output.find('{')));
   EXPECT_LT(score["d_grd"].get<double>(), 0.03);
@@ -169,15 +150,15 @@ TEST_F(MatchCommand, EvalReadsTheBinaryMapMatchWrites) {
   const ShellRun match = run_shell(cli_ + " match " + (*dir_ / "meshes/creature.ply").string() + " " +
                                        (*dir_ / "meshes/creature_moved.ply").string() + " -o " + map.string());
   ASSERT_EQ(match.exit_code, 0) << match.output;
-  const std::string pair =
-      " --dataset " + dir_->string() + " --source meshes/creature.ply --target meshes/creature_moved.ply";
-  const ShellRun eval = run_shell(cli_ + " eval " + map.string() + pair + " --json");
+  const std::string eval_pair = cli_ + " eval meshes/creature.ply meshes/creature_moved.ply ";
+  const std::string dataset = " --dataset " + dir_->string();
+  const ShellRun eval = run_shell(eval_pair + map.string() + dataset + " --json");
   ASSERT_EQ(eval.exit_code, 0) << eval.output;
   EXPECT_LT(nlohmann::json::parse(eval.output.substr(eval.output.find('{')))["d_grd"].get<double>(), 0.01);
 
   const fs::path cut = *dir_ / "cut.bin";  // declares 5 indices, holds one
   std::ofstream(cut, std::ios::binary) << std::string("ICMAP1\0\0\5\0\0\0\1\0\0\0", 16);
-  const ShellRun refused = run_shell(cli_ + " eval " + cut.string() + pair);
+  const ShellRun refused = run_shell(eval_pair + cut.string() + dataset);
   EXPECT_EQ(refused.exit_code, 2);
   EXPECT_NE(refused.output.find("truncated"), std::string::npos) << refused.output;
 }

@@ -1,6 +1,4 @@
 // `isocorr render` as a user runs it on the generated example pair and its known map.
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -9,7 +7,7 @@
 
 #include "isocorr/output/map_files.h"
 #include "../render/png_reading.h"
-#include "shell_run.h"
+#include "example_dataset.h"
 
 namespace isocorr {
 namespace {
@@ -19,24 +17,13 @@ namespace fs = std::filesystem;
 using isocorr::testing::run_shell;
 using isocorr::testing::ShellRun;
 
-class RenderCommand : public ::testing::Test {
+class RenderCommand : public testing::ExampleDatasetTest<4> {
  protected:
-  static void SetUpTestSuite() {
-    dir_ = new fs::path(fs::temp_directory_path() / ("isocorr_render_test_" + std::to_string(getpid())));
-    fs::create_directories(*dir_);
-    ASSERT_EQ(run_shell(std::string(ISOCORR_MAKE_EXAMPLES_PATH) + " " + dir_->string() + " --subdivisions 4").exit_code, 0);
-  }
-  static void TearDownTestSuite() {
-    fs::remove_all(*dir_);
-    delete dir_;
-  }
   std::string render(const fs::path& map, const std::string& extra) const {
-    return std::string(ISOCORR_CLI_PATH) + " render " + map.string() + " " + (*dir_ / "meshes/creature.ply").string() +
-           " " + (*dir_ / "meshes/creature_moved.ply").string() + " " + extra;
+    return std::string(ISOCORR_CLI_PATH) + " render " + (*dir_ / "meshes/creature.ply").string() + " " +
+           (*dir_ / "meshes/creature_moved.ply").string() + " " + map.string() + " " + extra;
   }
-  static fs::path* dir_;
 };
-fs::path* RenderCommand::dir_ = nullptr;
 
 // Pixels of the mesh (not the white background) in columns [x0, x1).
 int mesh_pixels(const RgbImage& image, int x0, int x1) {
@@ -87,6 +74,18 @@ TEST_F(RenderCommand, BadInputIsExitCodeTwoWithTheReason) {
   const ShellRun unwritable = run_shell(render(*dir_ / "gt/creature_to_moved.txt", "-o /nonexistent-isocorr/x.png"));
   EXPECT_EQ(unwritable.exit_code, 2);
   EXPECT_NE(unwritable.output.find("/nonexistent-isocorr/x.png"), std::string::npos) << unwritable.output;
+}
+
+// The map first, as render once took it, is refused before anything is read or written.
+TEST_F(RenderCommand, TheMapFirstIsExitCodeTwoNamingTheOrder) {
+  const fs::path png = *dir_ / "map_first.png";
+  const ShellRun run = run_shell(std::string(ISOCORR_CLI_PATH) + " render " +
+                                 (*dir_ / "gt/creature_to_moved.txt").string() + " " +
+                                 (*dir_ / "meshes/creature.ply").string() + " " +
+                                 (*dir_ / "meshes/creature_moved.ply").string() + " -o " + png.string());
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.output.find("`isocorr render SOURCE TARGET MAP`"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(png));
 }
 
 }  // namespace
