@@ -43,7 +43,7 @@ void register_cut_command(CLI::App& app, int& exit_code) {
   cmd->add_option("full", args->full, "full mesh (OFF, OBJ or PLY)")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", args->output, "the part, as binary PLY")->required();
   cmd->add_option("--index-map", args->index_map,
-                  "per part vertex, the 0-based full-mesh vertex it is (text, or binary if it ends in .bin)")
+                  "per part vertex, the 0-based full-mesh vertex it is (text; binary if it ends in .bin, NumPy if .npy)")
       ->required();
   cmd->add_option("--cut", args->kind, "ball (remove a geodesic ball), plane (one side of a plane) or holes")
       ->capture_default_str();

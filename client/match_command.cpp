@@ -10,10 +10,10 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.h"
-#include "isocorr/pipeline/run_match.h"
 #include "isocorr/output/colour_transfer.h"
 #include "isocorr/output/map_files.h"
 #include "isocorr/output/match_report.h"
+#include "isocorr/pipeline/run_match.h"
 #include "mesh_files.h"
 #include "progress_printer.h"
 #include "settings_flags.h"
@@ -82,11 +82,12 @@ int match_locally(const MatchJobFiles& args) {
     if (!args.colour_ply.empty()) write_colour_ply_pair(args.colour_ply, source.mesh, target.mesh, out.reverse);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     // The report's numbers: its "chosen" tracked map and its final orientation.
+    const TrackingDiagnostics& tracking = result.diagnostics.tracking;
     spdlog::info("matched {} -> {} vertices in {:.2f} s: D_iso {:.4f}, orientation {:.2f}, tracked {} of {} level-0 "
                  "maps, chose tracked map {} (level-0 rank {}); map written to {}",
                  out.forward.size(), out.reverse.size(), seconds, result.quality.diso, result.quality.orientation,
-                 result.diagnostics.tracking.maps.size(), result.diagnostics.level0.maps.size(), result.diagnostics.tracking.chosen, result.diagnostics.tracking.maps[result.diagnostics.tracking.chosen].level0_rank,
-                 args.output);
+                 tracking.maps.size(), result.diagnostics.level0.maps.size(), tracking.chosen,
+                 tracking.maps[tracking.chosen].level0_rank, args.output);
     if (args.settings.method != MatchMethod::kFull)
       spdlog::info("part matching: {:.1f}% of the target's area matched (reverse map -1 elsewhere), part scale {:.3f}",
                    100 * result.quality.target_matched_share, result.quality.part_scale);
@@ -111,7 +112,7 @@ void register_match_command(CLI::App& app, int& exit_code, RemoteMatchRunner rem
   cmd->add_option("source", args->source, "source mesh (OFF, OBJ or PLY)")->required()->check(CLI::ExistingFile);
   cmd->add_option("target", args->target, "target mesh (OFF, OBJ or PLY)")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", args->output,
-                  "map file: one 0-based target vertex per source vertex, one per line (binary if it ends in .bin)")
+                  "map file: one 0-based target vertex per source vertex, one per line (binary if it ends in .bin, NumPy if .npy)")
       ->required();
   cmd->add_option("--reverse-out", args->reverse_output, "also write the target-to-source map");
   cmd->add_option("--report", args->report, "write a JSON report (timings, candidates, tracked maps, D_iso)");

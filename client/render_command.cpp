@@ -47,7 +47,7 @@ void register_render_command(CLI::App& app, int& exit_code) {
                 "the source through the map");
   cmd->add_option("source", args->source, "source mesh (OFF, OBJ, PLY)")->required()->check(CLI::ExistingFile);
   cmd->add_option("target", args->target, "target mesh (OFF, OBJ, PLY)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("map", args->map, "source-to-target map written by `isocorr match` (text or .bin)")
+  cmd->add_option("map", args->map, "source-to-target map written by `isocorr match` (text, .bin or .npy)")
       ->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", args->output, "PNG file to write")->required();
   cmd->add_option("--width", args->picture.width, "picture width in pixels (each mesh gets half)")

@@ -79,6 +79,7 @@ void write_map_seeds(const fs::path& root) {
   const std::vector<int> map = {0, 2, 1, 7, 3, 65535, 4};
   isocorr::write_map_text((directory(root, "map_file") / "map.txt").string(), map);
   isocorr::write_map_binary((directory(root, "map_file") / "map.bin").string(), map);
+  isocorr::write_map_npy((directory(root, "map_file") / "map.npy").string(), map);
 }
 
 isocorr::server::JobRecord sample_job() {

@@ -1,4 +1,4 @@
-// Map files as `isocorr eval` reads them: ICMAP1 binary or one index per line.
+// Map files as `isocorr eval` reads them: ICMAP1 binary, NumPy .npy or one index per line.
 #include <cstdint>
 #include <string>
 

@@ -39,8 +39,8 @@ void register_download_command(CLI::App& app, ConnectionOptions& options, int& e
         const MatchOutput result = download_result(connection, job_name(d.name), parts);
         if (!d.output.empty()) write_map(d.output, result.forward);
         if (!d.reverse_output.empty()) write_map(d.reverse_output, result.reverse);
-        if (!d.confidence.empty()) write_values_text(d.confidence, result.forward_confidence);
-        if (!d.reverse_confidence.empty()) write_values_text(d.reverse_confidence, result.reverse_confidence);
+        if (!d.confidence.empty()) write_values(d.confidence, result.forward_confidence);
+        if (!d.reverse_confidence.empty()) write_values(d.reverse_confidence, result.reverse_confidence);
         if (!d.report.empty()) std::ofstream(d.report) << result.report_json << '\n';
         if (json)
           print_line("{\"forward_vertices\":" + std::to_string(result.forward.size()) +
@@ -50,9 +50,9 @@ void register_download_command(CLI::App& app, ConnectionOptions& options, int& e
         return kExitOk;
       });
   cmd->add_option("job", args->name, "jobs/ID or ID")->required();
-  cmd->add_option("-o,--output", args->output, "forward map (binary if it ends in .bin)");
+  cmd->add_option("-o,--output", args->output, "forward map (binary if it ends in .bin, NumPy if .npy)");
   cmd->add_option("--reverse-out", args->reverse_output, "target-to-source map");
-  cmd->add_option("--confidence-out", args->confidence, "d_iso of each forward pair, one per line");
+  cmd->add_option("--confidence-out", args->confidence, "confidence of each forward pair, one per line (NumPy float32 if it ends in .npy)");
   cmd->add_option("--reverse-confidence-out", args->reverse_confidence, "the same for the reverse map");
   cmd->add_option("--report", args->report, "the JSON report");
 }

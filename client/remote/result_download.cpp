@@ -76,11 +76,4 @@ MatchOutput download_result(Connection& connection, const std::string& job_name,
   return result;
 }
 
-void write_values_text(const std::string& path, const std::vector<float>& values) {
-  std::FILE* file = std::fopen(path.c_str(), "w");
-  if (!file) throw InputError("cannot write '" + path + "'");
-  for (const float value : values) std::fprintf(file, "%.6g\n", value);
-  if (std::fclose(file) != 0) throw InputError("cannot write '" + path + "'");
-}
-
 }  // namespace isocorr::cli

@@ -1,4 +1,4 @@
-// Fetching a finished job's result (DownloadResult stream) and writing it as files.
+// Fetching a finished job's result (DownloadResult stream).
 #pragma once
 
 #include <string>
@@ -13,8 +13,5 @@ namespace isocorr::cli {
 // for stay empty. Throws RpcError; DATA_LOSS when a map does not have one entry per vertex
 // or holds an index outside the other mesh (checked against the job's vertex counts).
 MatchOutput download_result(Connection& connection, const std::string& job_name, const std::vector<ResultPart>& parts);
-
-// Text, one value per line in vertex order, as `isocorr match` writes its outputs.
-void write_values_text(const std::string& path, const std::vector<float>& values);
 
 }  // namespace isocorr::cli

@@ -145,16 +145,22 @@ TEST_F(MatchCommand, CutPartMatchesWithPartialAndItsReverseMapMarksTheRest) {
   EXPECT_LT(score["d_grd"].get<double>(), 0.03);
 }
 
-TEST_F(MatchCommand, EvalReadsTheBinaryMapMatchWrites) {
-  const fs::path map = *dir_ / "out.bin";
-  const ShellRun match = run_shell(cli_ + " match " + (*dir_ / "meshes/creature.ply").string() + " " +
-                                       (*dir_ / "meshes/creature_moved.ply").string() + " -o " + map.string());
-  ASSERT_EQ(match.exit_code, 0) << match.output;
+TEST_F(MatchCommand, EvalReadsTheBinaryAndNumpyMapsMatchWrites) {
   const std::string eval_pair = cli_ + " eval meshes/creature.ply meshes/creature_moved.ply ";
   const std::string dataset = " --dataset " + dir_->string();
-  const ShellRun eval = run_shell(eval_pair + map.string() + dataset + " --json");
-  ASSERT_EQ(eval.exit_code, 0) << eval.output;
-  EXPECT_LT(nlohmann::json::parse(eval.output.substr(eval.output.find('{')))["d_grd"].get<double>(), 0.01);
+  for (const std::string name : {"out.bin", "out.npy"}) {
+    const fs::path map = *dir_ / name;
+    const ShellRun match = run_shell(cli_ + " match " + (*dir_ / "meshes/creature.ply").string() + " " +
+                                         (*dir_ / "meshes/creature_moved.ply").string() + " -o " + map.string());
+    ASSERT_EQ(match.exit_code, 0) << match.output;
+    const ShellRun eval = run_shell(eval_pair + map.string() + dataset + " --json");
+    ASSERT_EQ(eval.exit_code, 0) << eval.output;
+    EXPECT_LT(nlohmann::json::parse(eval.output.substr(eval.output.find('{')))["d_grd"].get<double>(), 0.01) << name;
+  }
+  std::ifstream numpy(*dir_ / "out.npy", std::ios::binary);
+  std::string head(6, '\0');
+  numpy.read(head.data(), 6);
+  EXPECT_EQ(head, std::string("\x93NUMPY"));
 
   const fs::path cut = *dir_ / "cut.bin";  // declares 5 indices, holds one
   std::ofstream(cut, std::ios::binary) << std::string("ICMAP1\0\0\5\0\0\0\1\0\0\0", 16);

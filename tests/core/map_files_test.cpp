@@ -1,5 +1,6 @@
 // Map files: text and ICMAP1 binary round trips, and every malformed map read_map refuses.
 #include "isocorr/output/map_files.h"
+#include "isocorr/output/npy_array.h"
 
 #include <gtest/gtest.h>
 
@@ -75,6 +76,34 @@ TEST_F(MapFiles, BinaryRoundTrip) {
   EXPECT_EQ(read_map(path("empty.bin")), std::vector<int>());
 }
 
+TEST_F(MapFiles, NumpyRoundTripRecognisedByItsMagicWhateverTheName) {
+  write_map(path("a.npy"), kMap);
+  std::ifstream in(path("a.npy"), std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(bytes, npy_bytes(kMap));
+  EXPECT_EQ(read_map(path("a.npy")), kMap);
+  write_map_npy(path("numpy.map"), kMap);
+  EXPECT_EQ(read_map(path("numpy.map")), kMap);
+}
+
+TEST_F(MapFiles, NumpyIndicesOutsideTheIntRangeAreRefused) {
+  std::string bytes = npy_bytes(std::vector<int>{1, 2});
+  bytes[bytes.size() - 1] = '\xff';  // the last index becomes negative, below -1
+  const std::string message = read_error(write("wild.npy", bytes));
+  EXPECT_NE(message.find("vertex 1 maps to"), std::string::npos) << message;
+}
+
+TEST_F(MapFiles, ValuesAsTextOrNumpy) {
+  write_values(path("c.txt"), {0.25f, 2.0f});
+  std::ifstream text(path("c.txt"));
+  const std::string lines((std::istreambuf_iterator<char>(text)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(lines, "0.25\n2\n");
+  write_values(path("c.npy"), {0.25f, 2.0f});
+  std::ifstream numpy(path("c.npy"), std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(numpy)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(bytes, npy_bytes(std::vector<float>{0.25f, 2.0f}));
+}
+
 TEST_F(MapFiles, BinaryIsRecognisedByItsMagicWhateverTheName) {
   write_map_binary(path("binary.map"), kMap);
   EXPECT_EQ(read_map(path("binary.map")), kMap);
@@ -118,8 +147,8 @@ TEST_F(MapFiles, MalformedBinaryNamesTheProblem) {
   EXPECT_NE(negative.find("vertex 1 maps to the negative index -2"), std::string::npos) << negative;
 }
 
-TEST_F(MapFiles, MinusOneMarksAVertexWithoutCounterpartInBothFormats) {
-  for (const std::string name : {"part.txt", "part.bin"}) {
+TEST_F(MapFiles, MinusOneMarksAVertexWithoutCounterpartInEveryFormat) {
+  for (const std::string name : {"part.txt", "part.bin", "part.npy"}) {
     write_map(path(name), {3, kNoCounterpart, 0});
     EXPECT_EQ(read_map(path(name)), (std::vector<int>{3, -1, 0})) << name;
   }

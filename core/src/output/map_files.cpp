@@ -1,11 +1,14 @@
 #include "isocorr/output/map_files.h"
 
 #include <charconv>
+#include <cstdio>
 #include <cstdint>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string_view>
 
+#include "isocorr/output/npy_array.h"
 #include "isocorr/util/error.h"
 
 namespace isocorr {
@@ -47,6 +50,18 @@ std::vector<int> parse_binary_map(std::string_view bytes, const std::string& pat
     map[k] = static_cast<int32_t>(load_le32(bytes, kBinaryHeaderBytes + 4 * static_cast<size_t>(k)));
     if (map[k] < kNoCounterpart)
       fail(path, "vertex " + std::to_string(k) + " maps to the negative index " + std::to_string(map[k]));
+  }
+  return map;
+}
+
+std::vector<int> parse_npy_map(std::string_view bytes, const std::string& path) {
+  const std::vector<int64_t> values = parse_npy_integers(bytes, path);
+  std::vector<int> map(values.size());
+  for (size_t k = 0; k < values.size(); ++k) {
+    if (values[k] < kNoCounterpart || values[k] > std::numeric_limits<int32_t>::max())
+      fail(path, "vertex " + std::to_string(k) + " maps to " + std::to_string(values[k]) +
+                     ", which is no vertex index (nor -1)");
+    map[k] = static_cast<int>(values[k]);
   }
   return map;
 }
@@ -100,8 +115,33 @@ void write_map_binary(const std::string& path, const std::vector<int>& map) {
   if (!out) throw InputError("failed writing '" + path + "'");
 }
 
+void write_map_npy(const std::string& path, const std::vector<int>& map) {
+  auto out = open_for_writing(path, std::ios::binary);
+  const std::string bytes = npy_bytes(map);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  if (!out) throw InputError("failed writing '" + path + "'");
+}
+
+void write_values(const std::string& path, const std::vector<float>& values) {
+  auto out = open_for_writing(path, std::ios::binary);
+  if (ends_with(path, ".npy")) {
+    const std::string bytes = npy_bytes(values);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  } else {
+    char line[32];
+    std::string buffer;
+    for (const float value : values) {
+      const int length = std::snprintf(line, sizeof line, "%.6g\n", value);
+      buffer.append(line, static_cast<size_t>(length));
+    }
+    out << buffer;
+  }
+  if (!out) throw InputError("failed writing '" + path + "'");
+}
+
 void write_map(const std::string& path, const std::vector<int>& map) {
   if (ends_with(path, ".bin")) write_map_binary(path, map);
+  else if (ends_with(path, ".npy")) write_map_npy(path, map);
   else write_map_text(path, map);
 }
 
@@ -116,6 +156,7 @@ std::vector<int> read_map(const std::string& path) {
 
 std::vector<int> parse_map(const std::string& bytes, const std::string& path) {
   if (bytes.starts_with(kBinaryMagic)) return parse_binary_map(bytes, path);
+  if (looks_like_npy(bytes)) return parse_npy_map(bytes, path);
   // No text map starts with a letter: this is a binary map cut inside its magic, or one of
   // a version this reader does not know.
   if (bytes.starts_with("ICMAP"))

@@ -14,11 +14,18 @@ inline constexpr int kNoCounterpart = -1;
 void write_map_text(const std::string& path, const std::vector<int>& map);
 // Binary: "ICMAP1\0\0", uint32 count, then count little-endian int32 indices.
 void write_map_binary(const std::string& path, const std::vector<int>& map);
-// Picks the format by extension: ".bin" is binary, anything else text.
+// NumPy: a .npy array of int32 (numpy.load reads it).
+void write_map_npy(const std::string& path, const std::vector<int>& map);
+// Picks the format by extension: ".bin" is binary, ".npy" NumPy, anything else text.
 void write_map(const std::string& path, const std::vector<int>& map);
 
-// Reads a map in either format: binary when the file starts with the ICMAP1 magic, whatever
-// its name, text otherwise (blank lines at the end are ignored). Throws InputError naming
+// Per-vertex values (the confidence of each pair): float32 .npy when the name ends in
+// ".npy", else text, one value per line.
+void write_values(const std::string& path, const std::vector<float>& values);
+
+// Reads a map in any of the three formats, known by its first bytes whatever its name:
+// binary (the ICMAP1 magic), NumPy (any integer .npy array of shape (N,), as numpy.save
+// writes int32 or int64), text otherwise (blank lines at the end are ignored). Throws InputError naming
 // the file and the problem: a truncated binary map, a count that disagrees with the data,
 // a text line that is not one integer, a negative index other than -1 (kNoCounterpart).
 std::vector<int> read_map(const std::string& path);
