@@ -1,4 +1,4 @@
-// Mesh readers and the PLY writer: every supported dialect, and every malformed input
+// Mesh readers and writers: every supported dialect, and every malformed input
 // becoming an InputError that names the problem.
 #include "isocorr/mesh/mesh_io.h"
 
@@ -173,6 +173,30 @@ TEST(MeshIo, WritePlyRoundTrips) {
     for (int v = 0; v < 4; ++v) EXPECT_EQ(loaded.mesh.vertices[v], mesh.vertices[v]);
     EXPECT_EQ(loaded.mesh.faces, mesh.faces);
     std::filesystem::remove(path);
+  }
+}
+
+// OFF and OBJ keep every coordinate exactly (the shortest text of each double), PLY as float.
+TEST(MeshIo, WriteMeshRoundTripsByExtension) {
+  TriangleMesh mesh{{{0.1, 1.0 / 3, -2.25}, {1e-300, 0, 7}, {0, -2.25e17, 0}, {0.7, 0.2, 1e3}}, kTetraFaces};
+  for (const std::string name : {"exact.off", "exact.OBJ", "float.ply"}) {
+    const std::string path = testing::TempDir() + "/isocorr_write_mesh_" + name;
+    write_mesh(path, mesh);
+    const LoadedMesh loaded = load_mesh(path);
+    ASSERT_EQ(loaded.mesh.num_vertices(), 4) << name;
+    EXPECT_EQ(loaded.mesh.faces, mesh.faces) << name;
+    for (int v = 0; v < 4; ++v)
+      for (int axis = 0; axis < 3; ++axis) {
+        const double expected = name == "float.ply" ? static_cast<float>(mesh.vertices[v][axis]) : mesh.vertices[v][axis];
+        EXPECT_EQ(loaded.mesh.vertices[v][axis], expected) << name << " vertex " << v;
+      }
+    std::filesystem::remove(path);
+  }
+  try {
+    write_mesh(testing::TempDir() + "/isocorr_write_mesh.stl", mesh);
+    ADD_FAILURE() << "wrote an .stl";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("must end in .off, .obj or .ply"), std::string::npos) << e.what();
   }
 }
 

@@ -3,6 +3,7 @@
 // counts are checked against the bytes that follow before anything is allocated.
 #pragma once
 
+#include <string>
 #include <string_view>
 
 #include "isocorr/mesh/mesh_io.h"
@@ -13,5 +14,10 @@ namespace isocorr::mesh_formats {
 LoadedMesh parse_off(std::string_view text);
 LoadedMesh parse_obj(std::string_view text);
 LoadedMesh parse_ply(std::string_view bytes);
+
+// The text of a mesh in each text format, coordinates in the shortest text that reads back
+// as the same double.
+std::string off_text(const TriangleMesh& mesh);
+std::string obj_text(const TriangleMesh& mesh);
 
 }  // namespace isocorr::mesh_formats

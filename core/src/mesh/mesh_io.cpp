@@ -78,4 +78,18 @@ LoadedMesh load_mesh(const std::string& path) {
   }
 }
 
+void write_mesh(const std::string& path, const TriangleMesh& mesh) {
+  const std::string extension = std::filesystem::path(path).extension().string();
+  std::string lower(extension);
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (lower == ".ply") return write_ply(path, mesh);
+  if (lower != ".off" && lower != ".obj")
+    throw InputError(cat("cannot write mesh file '", path, "': its name must end in .off, .obj or .ply"));
+  const std::string text = lower == ".off" ? mesh_formats::off_text(mesh) : mesh_formats::obj_text(mesh);
+  std::ofstream file(path, std::ios::binary | std::ios::trunc);
+  file.write(text.data(), static_cast<std::streamsize>(text.size()));
+  file.close();
+  if (!file) throw InputError(cat("cannot write mesh file '", path, "'"));
+}
+
 }  // namespace isocorr

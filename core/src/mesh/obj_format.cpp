@@ -45,4 +45,19 @@ LoadedMesh parse_obj(string_view text) {
   return builder.finish("obj");
 }
 
+std::string obj_text(const TriangleMesh& mesh) {
+  std::string out = "# written by isocorr\n";
+  for (const Vec3& p : mesh.vertices) {
+    out += 'v';
+    for (int axis = 0; axis < 3; ++axis) {
+      out += ' ';
+      append_exact(out, p[axis]);
+    }
+    out += '\n';
+  }
+  // OBJ numbers vertices from 1.
+  for (const Face& face : mesh.faces) out += cat("f ", face[0] + 1, " ", face[1] + 1, " ", face[2] + 1, "\n");
+  return out;
+}
+
 }  // namespace isocorr::mesh_formats

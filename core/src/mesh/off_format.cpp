@@ -84,4 +84,17 @@ LoadedMesh parse_off(string_view text) {
   return builder.finish("off");
 }
 
+std::string off_text(const TriangleMesh& mesh) {
+  std::string out = cat("OFF\n", mesh.vertices.size(), " ", mesh.faces.size(), " 0\n");
+  for (const Vec3& p : mesh.vertices) {
+    for (int axis = 0; axis < 3; ++axis) {
+      if (axis > 0) out += ' ';
+      append_exact(out, p[axis]);
+    }
+    out += '\n';
+  }
+  for (const Face& face : mesh.faces) out += cat("3 ", face[0], " ", face[1], " ", face[2], "\n");
+  return out;
+}
+
 }  // namespace isocorr::mesh_formats

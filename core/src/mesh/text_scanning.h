@@ -95,4 +95,11 @@ inline bool parse_integer(string_view token, long long& value) {
   return !token.empty() && error == std::errc() && ptr == end;
 }
 
+// Appends `value` in the shortest text that parses back to the same double.
+inline void append_exact(std::string& out, double value) {
+  char text[32];
+  const auto [end, error] = std::to_chars(text, text + sizeof text, value);
+  out.append(text, end);
+}
+
 }  // namespace isocorr::mesh_formats

@@ -31,6 +31,11 @@ LoadedMesh parse_mesh(const std::string& bytes, const std::string& name_hint);
 // Reads a file and parses it (throws InputError if it cannot be read).
 LoadedMesh load_mesh(const std::string& path);
 
+// Writes `mesh` in the format its name ends with: .off or .obj (text, coordinates exact) or
+// .ply (binary, float coordinates, as write_ply). Throws InputError for another extension
+// or a file that cannot be written.
+void write_mesh(const std::string& path, const TriangleMesh& mesh);
+
 // Writes a binary little-endian PLY with optional per-vertex RGB colours (empty = none).
 void write_ply(const std::string& path, const TriangleMesh& mesh,
                const std::vector<std::array<unsigned char, 3>>& colours = {});
