@@ -1,0 +1,22 @@
+"""isocorr: dense correspondence between nearly isometric triangle meshes.
+
+numpy in, numpy out::
+
+    import isocorr
+    V1, F1 = isocorr.read_mesh("cat0.off")
+    V2, F2 = isocorr.read_mesh("cat1.off")
+    m = isocorr.match((V1, F1), (V2, F2))
+    m.forward   # int32 (n1,): the vertex of cat1 each vertex of cat0 matches
+
+A Shape preprocesses a mesh once for several matches::
+
+    cat0, cat1 = isocorr.Shape(V1, F1), isocorr.Shape(V2, F2)
+    m = isocorr.match(cat0, cat1, refine_candidates=4)
+
+Settings are keyword arguments named as in isocorr.settings() (the command line's flags
+with underscores); a bad one raises ValueError naming it.
+"""
+
+from ._isocorr import Match, Shape, __version__, match, read_mesh, settings, write_mesh
+
+__all__ = ["Match", "Shape", "__version__", "match", "read_mesh", "settings", "write_mesh"]

@@ -1,0 +1,88 @@
+#include "numpy_mesh.h"
+
+#include <algorithm>
+#include <string>
+
+#include "isocorr/mesh/mesh_io.h"
+
+namespace isocorr::python {
+namespace {
+
+// "(n, 3)", as numpy prints a shape.
+std::string shape_of(const py::array& array) {
+  std::string text = "(";
+  for (py::ssize_t d = 0; d < array.ndim(); ++d) text += (d ? ", " : "") + std::to_string(array.shape(d));
+  return text + (array.ndim() == 1 ? ",)" : ")");
+}
+
+}  // namespace
+
+TriangleMesh mesh_from_arrays(const VertexArray& vertices, const FaceArray& faces) {
+  if (vertices.ndim() != 2 || vertices.shape(1) != 3)
+    throw py::value_error("V must be an array of shape (n, 3), got shape " + shape_of(vertices));
+  if (faces.ndim() != 2 || faces.shape(1) != 3)
+    throw py::value_error("F must be an array of shape (m, 3) of vertex indices, got shape " + shape_of(faces));
+  TriangleMesh mesh;
+  const auto v = vertices.unchecked<2>();
+  mesh.vertices.resize(v.shape(0));
+  for (py::ssize_t i = 0; i < v.shape(0); ++i) {
+    mesh.vertices[i] = Vec3(v(i, 0), v(i, 1), v(i, 2));
+    if (!mesh.vertices[i].allFinite())
+      throw py::value_error("V: vertex " + std::to_string(i) + " has a coordinate that is not finite");
+  }
+  const auto f = faces.unchecked<2>();
+  mesh.faces.resize(f.shape(0));
+  for (py::ssize_t i = 0; i < f.shape(0); ++i)
+    for (int corner = 0; corner < 3; ++corner) {
+      const int64_t index = f(i, corner);
+      if (index < 0 || index >= v.shape(0))
+        throw py::value_error("F: face " + std::to_string(i) + " names vertex " + std::to_string(index) +
+                              ", outside V's " + std::to_string(v.shape(0)) + " vertices");
+      mesh.faces[i][corner] = static_cast<int>(index);
+    }
+  return mesh;
+}
+
+py::tuple arrays_from_mesh(const TriangleMesh& mesh) {
+  py::array_t<double> vertices({static_cast<py::ssize_t>(mesh.vertices.size()), py::ssize_t{3}});
+  auto v = vertices.mutable_unchecked<2>();
+  for (size_t i = 0; i < mesh.vertices.size(); ++i)
+    for (int axis = 0; axis < 3; ++axis) v(i, axis) = mesh.vertices[i][axis];
+  py::array_t<int32_t> faces({static_cast<py::ssize_t>(mesh.faces.size()), py::ssize_t{3}});
+  auto f = faces.mutable_unchecked<2>();
+  for (size_t i = 0; i < mesh.faces.size(); ++i)
+    for (int corner = 0; corner < 3; ++corner) f(i, corner) = mesh.faces[i][corner];
+  return py::make_tuple(vertices, faces);
+}
+
+py::array_t<int32_t> int_array(const std::vector<int>& values) {
+  py::array_t<int32_t> array(static_cast<py::ssize_t>(values.size()));
+  std::copy(values.begin(), values.end(), array.mutable_data());
+  return array;
+}
+
+py::array_t<float> float_array(const std::vector<float>& values) {
+  py::array_t<float> array(static_cast<py::ssize_t>(values.size()));
+  std::copy(values.begin(), values.end(), array.mutable_data());
+  return array;
+}
+
+void register_mesh_functions(py::module_& module) {
+  module.def(
+      "read_mesh", [](const std::string& path) { return arrays_from_mesh(load_mesh(path).mesh); }, py::arg("path"),
+      R"(Reads an OFF, OBJ or PLY mesh file.
+
+Returns (V, F): V the vertex positions, float64 of shape (n, 3); F the triangles, int32 of
+shape (m, 3), 0-based. Polygons are split into triangles. Raises ValueError naming what is
+wrong with a malformed file.)");
+  module.def(
+      "write_mesh",
+      [](const std::string& path, const VertexArray& vertices, const FaceArray& faces) {
+        write_mesh(path, mesh_from_arrays(vertices, faces));
+      },
+      py::arg("path"), py::arg("V"), py::arg("F"),
+      R"(Writes V (n, 3) and F (m, 3) to `path`: OFF or OBJ with exact coordinates, or binary
+PLY (float coordinates), by the name's extension.)");
+}
+
+}  // namespace isocorr::python

@@ -1,0 +1,105 @@
+"""isocorr.match: the same maps as the command line, Shapes reused, settings checked,
+progress reported and Ctrl-C honoured."""
+
+import os
+import signal
+import subprocess
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import isocorr
+
+
+def creature(examples, name):
+    return isocorr.read_mesh(str(examples / "meshes" / name))
+
+
+def true_map(examples):
+    return np.loadtxt(examples / "gt" / "creature_to_moved.txt", dtype=np.int64)
+
+
+def test_match_recovers_the_known_map(examples):
+    m = isocorr.match(creature(examples, "creature.ply"), creature(examples, "creature_moved.ply"))
+    truth = true_map(examples)
+    assert m.forward.dtype == np.int32 and m.forward.shape == truth.shape
+    assert np.mean(m.forward == truth) > 0.95
+    assert m.reverse.shape[0] == len(creature(examples, "creature_moved.ply")[0])
+    assert m.confidence.dtype == np.float32 and m.confidence.shape == m.forward.shape
+    assert m.report["final"]["source_vertices"] == len(truth)
+    assert 0 < m.diso < 0.05 and m.orientation > 0.9
+
+
+def test_same_map_as_the_command_line_byte_for_byte(cli, faust_pair, tmp_path):
+    source, target = faust_pair
+    written = tmp_path / "map.npy"
+    subprocess.run([str(cli), "match", str(source), str(target), "-o", str(written)], check=True,
+                   capture_output=True)
+    m = isocorr.match(isocorr.read_mesh(str(source)), isocorr.read_mesh(str(target)))
+    from_cli = np.load(written)
+    assert from_cli.dtype == np.int32
+    assert m.forward.tobytes() == from_cli.tobytes()
+
+
+def test_a_shape_reused_for_two_matches_gives_the_maps_of_fresh_ones(examples):
+    V, F = creature(examples, "creature.ply")
+    moved = creature(examples, "creature_moved.ply")
+    shape = isocorr.Shape(V, F)
+    moved_shape = isocorr.Shape(*moved)
+    first = isocorr.match(shape, moved_shape)
+    second = isocorr.match(moved_shape, shape)
+    assert np.array_equal(first.forward, isocorr.match((V, F), moved).forward)
+    assert np.array_equal(second.forward, isocorr.match(moved, (V, F)).forward)
+
+
+def test_settings_are_checked_by_name_type_and_range(examples):
+    pair = (creature(examples, "creature.ply"), creature(examples, "creature_moved.ply"))
+    with pytest.raises(ValueError, match="unknown setting 'no_such_setting'"):
+        isocorr.match(*pair, no_such_setting=1)
+    with pytest.raises(ValueError, match="min_tracked takes an integer"):
+        isocorr.match(*pair, min_tracked=2.5)
+    with pytest.raises(ValueError, match="max_level0_diso"):
+        isocorr.match(*pair, max_level0_diso=2.0)
+    with pytest.raises(ValueError, match="refine takes one of"):
+        isocorr.match(*pair, refine=3)
+    shapes = [isocorr.Shape(*mesh) for mesh in pair]
+    with pytest.raises(ValueError, match="preprocessing setting: give it to isocorr.Shape"):
+        isocorr.match(*shapes, spectral_basis=50)
+    with pytest.raises(ValueError, match="setting of the match: give it to isocorr.match"):
+        isocorr.Shape(*pair[0], min_tracked=4)
+    names = {row["name"]: row for row in isocorr.settings()}
+    assert names["min_tracked"]["type"] == "int" and names["spectral_basis"]["scope"] == "preprocess"
+
+
+def test_an_unusable_mesh_is_a_value_error(examples):
+    V = np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]])
+    with pytest.raises(ValueError):
+        isocorr.match((V, np.array([[0, 1, 2]])), creature(examples, "creature.ply"))
+
+
+def test_progress_reaches_the_callback_in_order(examples):
+    seen = []
+    isocorr.match(creature(examples, "creature.ply"), creature(examples, "creature_moved.ply"),
+                  progress=lambda stage, fraction: seen.append((stage, fraction)))
+    assert seen and seen[-1] == ("done", 1.0)
+    assert all(0 <= fraction <= 1 for _, fraction in seen)
+
+
+def test_a_callback_that_raises_ends_the_match_with_its_exception(examples):
+    def stop(stage, fraction):
+        raise RuntimeError("enough")
+
+    with pytest.raises(RuntimeError, match="enough"):
+        isocorr.match(creature(examples, "creature.ply"), creature(examples, "creature_moved.ply"), progress=stop)
+
+
+def test_ctrl_c_ends_a_running_match_within_a_second(faust_pair):
+    source, target = (isocorr.read_mesh(str(path)) for path in faust_pair)
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    start = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        isocorr.match(source, target)
+    assert time.monotonic() - start < 1.5
