@@ -13,10 +13,17 @@ A Shape preprocesses a mesh once for several matches::
     cat0, cat1 = isocorr.Shape(V1, F1), isocorr.Shape(V2, F2)
     m = isocorr.match(cat0, cat1, refine_candidates=4)
 
+A map is scored against ground truth as `isocorr eval` scores it::
+
+    score = isocorr.evaluate(V2, F2, m.forward, truth)   # truth: true target vertex per source vertex
+    score["d_grd"], score["kim_auc"]
+
 Settings are keyword arguments named as in isocorr.settings() (the command line's flags
 with underscores); a bad one raises ValueError naming it.
 """
 
-from ._isocorr import Match, Shape, __version__, match, read_mesh, settings, write_mesh
+from ._isocorr import Match, Shape, __version__, coverage, evaluate, match, read_mesh, settings, write_mesh
 
-__all__ = ["Match", "Shape", "__version__", "match", "read_mesh", "settings", "write_mesh"]
+__all__ = [
+    "Match", "Shape", "__version__", "coverage", "evaluate", "match", "read_mesh", "settings", "write_mesh",
+]

@@ -41,6 +41,16 @@ class Match:
     @property
     def notes(self) -> list[str]: ...
 
+def evaluate(
+    V: npt.ArrayLike,
+    F: npt.ArrayLike,
+    forward: npt.ArrayLike,
+    truth: npt.ArrayLike,
+    *,
+    mirrored: Optional[npt.ArrayLike] = None,
+    max_points: int = 2000,
+) -> dict[str, Any]: ...
+def coverage(V: npt.ArrayLike, F: npt.ArrayLike, forward: npt.ArrayLike, seed_counts: list[int] = ...) -> list[float]: ...
 def match(
     source: Union[Shape, MeshArrays],
     target: Union[Shape, MeshArrays],

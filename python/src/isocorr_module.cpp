@@ -3,6 +3,7 @@
 
 #include "isocorr/util/error.h"
 #include "isocorr/version.h"
+#include "evaluation.h"
 #include "numpy_mesh.h"
 #include "python_match.h"
 #include "settings_kwargs.h"
@@ -23,4 +24,5 @@ PYBIND11_MODULE(_isocorr, module) {
   isocorr::python::register_mesh_functions(module);
   isocorr::python::register_settings_functions(module);
   isocorr::python::register_match(module);
+  isocorr::python::register_evaluation(module);
 }

@@ -1,5 +1,7 @@
 #include "python_match.h"
 
+#include <pybind11/stl.h>
+
 #include <atomic>
 #include <chrono>
 #include <deque>

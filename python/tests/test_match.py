@@ -1,6 +1,7 @@
 """isocorr.match: the same maps as the command line, Shapes reused, settings checked,
 progress reported and Ctrl-C honoured."""
 
+import json
 import os
 import signal
 import subprocess
@@ -103,3 +104,28 @@ def test_ctrl_c_ends_a_running_match_within_a_second(faust_pair):
     with pytest.raises(KeyboardInterrupt):
         isocorr.match(source, target)
     assert time.monotonic() - start < 1.5
+
+
+def test_evaluate_scores_as_the_command_line(cli, examples, tmp_path):
+    source, target = examples / "meshes" / "creature.ply", examples / "meshes" / "creature_moved.ply"
+    m = isocorr.match(isocorr.read_mesh(str(source)), isocorr.read_mesh(str(target)))
+    written = tmp_path / "map.npy"
+    np.save(written, m.forward.astype(np.int64))  # what a user's numpy writes
+    run = subprocess.run([str(cli), "eval", "meshes/creature.ply", "meshes/creature_moved.ply", str(written),
+                          "--dataset", str(examples), "--json"], check=True, capture_output=True, text=True)
+    from_cli = json.loads(run.stdout[run.stdout.index("{"):])
+    V, F = isocorr.read_mesh(str(target))
+    score = isocorr.evaluate(V, F, m.forward, true_map(examples))
+    assert score["d_grd"] == from_cli["d_grd"] and score["kim_auc"] == from_cli["kim_auc"]
+    assert score["evaluated"] == from_cli["evaluated"] and score["flip_free"]
+    assert score["kim_curve"].shape == score["kim_thresholds"].shape
+    assert isocorr.coverage(V, F, m.forward, [10, 50]) == pytest.approx(from_cli["coverage"][0:3:2])
+    with pytest.raises(ValueError, match="truth has 3 entries"):
+        isocorr.evaluate(V, F, m.forward, np.array([0, 1, 2]))
+
+
+def test_warnings_and_notes_are_lists_of_text(examples):
+    m = isocorr.match(creature(examples, "creature.ply"), creature(examples, "creature_moved.ply"))
+    assert isinstance(m.warnings, list) and all(isinstance(w, str) for w in m.warnings)
+    assert m.notes and all(isinstance(n, str) for n in m.notes)
+    assert repr(m).startswith("<isocorr.Match: ")
