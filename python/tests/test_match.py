@@ -3,8 +3,10 @@ progress reported and Ctrl-C honoured."""
 
 import json
 import os
+import pathlib
 import signal
 import subprocess
+import sys
 import threading
 import time
 
@@ -129,3 +131,14 @@ def test_warnings_and_notes_are_lists_of_text(examples):
     assert isinstance(m.warnings, list) and all(isinstance(w, str) for w in m.warnings)
     assert m.notes and all(isinstance(n, str) for n in m.notes)
     assert repr(m).startswith("<isocorr.Match: ")
+
+
+def test_the_match_and_score_example_runs(examples, tmp_path):
+    example = pathlib.Path(__file__).resolve().parents[2] / "examples" / "python" / "match_and_score.py"
+    out = tmp_path / "map.npy"
+    run = subprocess.run([sys.executable, str(example), str(examples / "meshes" / "creature.ply"),
+                          str(examples / "meshes" / "creature_moved.ply"),
+                          str(examples / "gt" / "creature_to_moved.txt"), str(out)],
+                         check=True, capture_output=True, text=True)
+    assert "flip-free True" in run.stdout
+    assert np.load(out).shape == (len(creature(examples, "creature.ply")[0]),)
