@@ -5,6 +5,7 @@ ISOCORR_CMAKE_BUILD_DIR names an existing build folder configured with
 -DISOCORR_BUILD_PYTHON=ON (the tests reuse the one scripts/build.sh made); otherwise a
 fresh one is configured without the service and the tests. ISOCORR_CMAKE_ARGS adds
 configure options, e.g. -DISOCORR_ARCH=auto for this machine's widest instruction set.
+The remote client's gRPC stubs are generated from proto/ at the same time.
 """
 
 import os
@@ -16,8 +17,12 @@ import sys
 
 from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
+from setuptools.command.build_py import build_py
 
 REPOSITORY = pathlib.Path(__file__).resolve().parent.parent
+# google/rpc/status.proto (Job.error) comes from Debian's golang-github-gogo-googleapis-dev.
+GOOGLEAPIS_PROTOS = os.environ.get("ISOCORR_GOOGLEAPIS_PROTO_DIR", "/usr/share/gocode/src/github.com/gogo/googleapis")
+GRPC_PYTHON_PLUGIN = os.environ.get("ISOCORR_GRPC_PYTHON_PLUGIN", "/usr/bin/grpc_python_plugin")
 
 
 class CMakeExtension(Extension):
@@ -45,4 +50,20 @@ class CMakeBuild(build_ext):
         shutil.copyfile(built, target)
 
 
-setup(ext_modules=[CMakeExtension("isocorr._isocorr")], cmdclass={"build_ext": CMakeBuild})
+class BuildWithStubs(build_py):
+    """The package plus the API's gRPC stubs for isocorr.Client, generated from proto/ with
+    protoc and grpc_python_plugin (protobuf-compiler, protobuf-compiler-grpc): isocorr/v1
+    (the service) and isocorr/_proto/google/rpc (google.rpc.Status)."""
+
+    def run(self):
+        super().run()
+        package = pathlib.Path(self.build_lib)
+        includes = [f"-I{REPOSITORY / 'proto'}", f"-I{GOOGLEAPIS_PROTOS}"]
+        subprocess.check_call(["protoc", *includes, f"--python_out={package}", f"--grpc_out={package}",
+                               f"--plugin=protoc-gen-grpc={GRPC_PYTHON_PLUGIN}", "isocorr/v1/isocorr.proto"])
+        vendored = package / "isocorr" / "_proto"
+        vendored.mkdir(parents=True, exist_ok=True)
+        subprocess.check_call(["protoc", *includes, f"--python_out={vendored}", "google/rpc/status.proto"])
+
+
+setup(ext_modules=[CMakeExtension("isocorr._isocorr")], cmdclass={"build_ext": CMakeBuild, "build_py": BuildWithStubs})

@@ -18,6 +18,11 @@ A map is scored against ground truth as `isocorr eval` scores it::
     score = isocorr.evaluate(V2, F2, m.forward, truth)   # truth: true target vertex per source vertex
     score["d_grd"], score["kim_auc"]
 
+An isocorr-server is reached with isocorr.Client (python3-grpcio)::
+
+    with isocorr.Client("127.0.0.1:50051") as server:
+        result = server.match("cat0.off", "cat1.off")
+
 Settings are keyword arguments named as in isocorr.settings() (the command line's flags
 with underscores); a bad one raises ValueError naming it.
 """
@@ -27,3 +32,12 @@ from ._isocorr import Match, Shape, __version__, coverage, evaluate, match, read
 __all__ = [
     "Match", "Shape", "__version__", "coverage", "evaluate", "match", "read_mesh", "settings", "write_mesh",
 ]
+
+
+def __getattr__(name):
+    # The remote client loads grpc only when asked for: the engine alone does not need it.
+    if name in ("Client", "RemoteError", "RemoteResult"):
+        from . import client
+
+        return getattr(client, name)
+    raise AttributeError(f"module 'isocorr' has no attribute {name!r}")
