@@ -15,7 +15,7 @@ launcher=()
 command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 
 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_CXX_COMPILER=clang++ \
-  -DISOCORR_FUZZ=ON -DISOCORR_SANITIZE=address,undefined -DISOCORR_BUILD_TESTS=OFF -DISOCORR_BUILD_SERVICE=OFF \
+  -DISOCORR_FUZZ=ON -DISOCORR_SANITIZE=address,undefined -DISOCORR_BUILD_TESTS=OFF -DISOCORR_BUILD_SERVICE=OFF -DISOCORR_ARCH=auto \
   "${launcher[@]}" >/dev/null
 cmake --build "$build" -j "$(nproc)"
 

@@ -53,7 +53,7 @@ command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 
 cmake -S "$here" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
-  -DISOCORR_SANITIZE="$sanitizers" -DISOCORR_BUILD_SERVICE="$service" "${launcher[@]}" >/dev/null
+  -DISOCORR_SANITIZE="$sanitizers" -DISOCORR_BUILD_SERVICE="$service" -DISOCORR_ARCH=auto "${launcher[@]}" >/dev/null
 cmake --build "$build" -j "$(nproc)" --target isocorr_tests
 
 reports="$build/sanitizer-reports"
