@@ -159,7 +159,7 @@ class Client:
         answer = self._jobs.GetJob(pb.GetJobRequest(name=job), timeout=self._timeout, metadata=self._metadata)
         if answer.state != pb.Job.SUCCEEDED:
             raise RemoteError(job, answer.error.code, answer.error.message or pb.Job.State.Name(answer.state))
-        parts = {}
+        parts, report = {}, []
         chunks = self._jobs.DownloadResult(pb.DownloadResultRequest(name=job), timeout=self._timeout,
                                            metadata=self._metadata)
         for chunk in chunks:
@@ -170,7 +170,9 @@ class Client:
                 array = parts.setdefault(chunk.part, np.empty(chunk.total, dtype=np.float32))
                 array[chunk.offset:chunk.offset + len(chunk.values)] = chunk.values
             else:
-                parts[chunk.part] = parts.get(chunk.part, b"") + chunk.data
+                report.append(chunk.data)
+        if report:
+            parts[pb.REPORT_JSON] = b"".join(report)
         return RemoteResult(job, answer.result, parts)
 
     def match(self, source, target, *, timeout=None, **settings):

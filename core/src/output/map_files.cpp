@@ -27,6 +27,12 @@ bool ends_with(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
+void write_bytes(const std::string& path, const std::string& bytes) {
+  auto out = open_for_writing(path, std::ios::binary);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  if (!out) throw InputError("failed writing '" + path + "'");
+}
+
 [[noreturn]] void fail(const std::string& path, const std::string& what) { throw InputError(path + ": " + what); }
 
 uint32_t load_le32(std::string_view bytes, size_t at) {
@@ -115,28 +121,17 @@ void write_map_binary(const std::string& path, const std::vector<int>& map) {
   if (!out) throw InputError("failed writing '" + path + "'");
 }
 
-void write_map_npy(const std::string& path, const std::vector<int>& map) {
-  auto out = open_for_writing(path, std::ios::binary);
-  const std::string bytes = npy_bytes(map);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  if (!out) throw InputError("failed writing '" + path + "'");
-}
+void write_map_npy(const std::string& path, const std::vector<int>& map) { write_bytes(path, npy_bytes(map)); }
 
 void write_values(const std::string& path, const std::vector<float>& values) {
-  auto out = open_for_writing(path, std::ios::binary);
-  if (ends_with(path, ".npy")) {
-    const std::string bytes = npy_bytes(values);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  } else {
-    char line[32];
-    std::string buffer;
-    for (const float value : values) {
-      const int length = std::snprintf(line, sizeof line, "%.6g\n", value);
-      buffer.append(line, static_cast<size_t>(length));
-    }
-    out << buffer;
+  if (ends_with(path, ".npy")) return write_bytes(path, npy_bytes(values));
+  char line[32];
+  std::string text;
+  for (const float value : values) {
+    const int length = std::snprintf(line, sizeof line, "%.6g\n", value);
+    text.append(line, static_cast<size_t>(length));
   }
-  if (!out) throw InputError("failed writing '" + path + "'");
+  write_bytes(path, text);
 }
 
 void write_map(const std::string& path, const std::vector<int>& map) {

@@ -26,23 +26,26 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
     report["refine_steps_seconds"] = steps;
   }
 
+  const Level0Diagnostics& level0_maps = result.diagnostics.level0;
+  const TrackingDiagnostics& tracking = result.diagnostics.tracking;
+  const RefinementDiagnostics& refinement = result.diagnostics.refinement;
   json level0 = json::array();
-  const size_t shown = std::min<size_t>(result.diagnostics.level0.maps.size(), 20);
+  const size_t shown = std::min<size_t>(level0_maps.maps.size(), 20);
   for (size_t i = 0; i < shown; ++i)
-    level0.push_back({{"rank", i}, {"diso", result.diagnostics.level0.maps[i].diso}, {"target_of", result.diagnostics.level0.maps[i].target_of}});
-  report["level0"] = {{"maps_under_threshold", result.diagnostics.level0.maps.size()}, {"best", level0},
-                      {"tracked_by_jump_rule", result.diagnostics.level0.tracked_by_jump_rule}};
+    level0.push_back({{"rank", i}, {"diso", level0_maps.maps[i].diso}, {"target_of", level0_maps.maps[i].target_of}});
+  report["level0"] = {{"maps_under_threshold", level0_maps.maps.size()}, {"best", level0},
+                      {"tracked_by_jump_rule", level0_maps.tracked_by_jump_rule}};
   json tracked = json::array();
-  for (const auto& t : result.diagnostics.tracking.maps)
+  for (const auto& t : tracking.maps)
     tracked.push_back({{"level0_rank", t.level0_rank}, {"level0_diso", t.level0_diso},
                        {"pairs", t.pairs.size()}, {"diso", t.diso}, {"orientation", t.orientation}});
   report["tracked"] = tracked;
-  report["chosen"] = result.diagnostics.tracking.chosen;
-  if (!result.diagnostics.refinement.candidates.empty()) {
+  report["chosen"] = tracking.chosen;
+  if (!refinement.candidates.empty()) {
     json refined = json::array();
-    for (const auto& c : result.diagnostics.refinement.candidates)
+    for (const auto& c : refinement.candidates)
       refined.push_back({{"tracked", c.tracked_index},
-                         {"level0_rank", result.diagnostics.tracking.maps[c.tracked_index].level0_rank},
+                         {"level0_rank", tracking.maps[c.tracked_index].level0_rank},
                          {"orientation", c.evidence.orientation},
                          {"neighbourhood_orientation", c.evidence.neighbourhood_orientation},
                          {"signature_disagreement", c.evidence.signature_disagreement},
@@ -54,8 +57,8 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
                          {"mirrored", c.mirrored},
                          {"finished", c.finished}});
     json screened = json::array();
-    for (const auto& s : result.diagnostics.refinement.screened) {
-      const bool went_on = std::any_of(result.diagnostics.refinement.candidates.begin(), result.diagnostics.refinement.candidates.end(),
+    for (const auto& s : refinement.screened) {
+      const bool went_on = std::any_of(refinement.candidates.begin(), refinement.candidates.end(),
                                        [&](const DenseCandidate& c) { return c.tracked_index == s.tracked_index; });
       screened.push_back({{"tracked", s.tracked_index},
                           {"orientation", s.orientation},
@@ -64,8 +67,8 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
     }
     report["refined"] = {{"screened", screened},
                          {"candidates", refined},
-                         {"chosen", result.diagnostics.refinement.chosen},
-                         {"why", result.diagnostics.refinement.why}};
+                         {"chosen", refinement.chosen},
+                         {"why", refinement.why}};
   }
   report["final"] = {{"diso", result.quality.diso}, {"diso_max", result.quality.diso_max},
                      {"orientation", result.quality.orientation},

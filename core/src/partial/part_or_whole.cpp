@@ -8,10 +8,18 @@
 #include "isocorr/util/parallel.h"
 
 namespace isocorr {
+namespace {
+
+template <class T>
+void append(std::vector<T>& to, const std::vector<T>& more) {
+  to.insert(to.end(), more.begin(), more.end());
+}
+
+}  // namespace
 
 // method = part or ravac: the part search or RAVAC (part_matching.h) and the complete
-// pipeline both match the part, and the map whose smoothed curvature agrees better wins (mirrors, reversing most
-// faces, lose first). They are right on different cuts (isocorr-bench-partial on faust_5k,
+// pipeline both match the part, and the map whose smoothed curvature agrees better wins
+// (mirrors, reversing most faces, lose first). They are right on different cuts (isocorr-bench-partial on faust_5k,
 // scape, tosca_isometric_5k): the complete pipeline on parts that lost holes or a 30% ball,
 // whose spectrum barely moves, the part search on half bodies. Curvature picked the right one
 // on every cut where one was right; the boundary-aware distortion never picked the complete
@@ -46,8 +54,8 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
   try {
     whole = match_whole(source, target, as_whole, whole_result, share_of(0.5, 0.5));
   } catch (const InputError& e) {
-    result.messages.warnings.push_back(method_name + ": the " + search_name + "'s map kept; the complete pipeline failed: " +
-                              e.what());
+    result.messages.warnings.push_back(method_name + ": the " + search_name +
+                                       "'s map kept; the complete pipeline failed: " + e.what());
     return part;
   }
   const int threads = resolve_thread_count(control.threads);
@@ -62,9 +70,10 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
     const PartMapEvidence refined_evidence = measure_part_maps(source, target, {&refined.forward}, threads)[0];
     const bool kept = refined_evidence.orientation >= settings.orientation_threshold &&
                       refined_evidence.curvature < evidence[1].curvature;
-    result.messages.notes.push_back(method_name + ": the complete pipeline's map refined as a part's, curvature disagreement " +
-                           std::to_string(evidence[1].curvature) + " -> " + std::to_string(refined_evidence.curvature) +
-                           (kept ? ", kept" : ", not kept"));
+    result.messages.notes.push_back(method_name +
+                                    ": the complete pipeline's map refined as a part's, curvature disagreement " +
+                                    std::to_string(evidence[1].curvature) + " -> " +
+                                    std::to_string(refined_evidence.curvature) + (kept ? ", kept" : ", not kept"));
     if (kept) {
       whole.forward = std::move(refined.forward);
       whole.forward_diso = std::move(refined.forward_diso);
@@ -88,14 +97,17 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
                           "'s map kept; " + describe(search_name.c_str(), part_evidence) + ", " +
                           describe("complete pipeline", whole_evidence);
   if (!whole_wins) {
-    result.timings.stages.insert(result.timings.stages.end(), whole_result.timings.stages.begin(), whole_result.timings.stages.end());
+    append(result.timings.stages, whole_result.timings.stages);
     result.messages.notes.push_back(why);
     return part;
   }
   add_part_reverse_map(source, target, whole_evidence.scale, whole);
-  whole_result.timings.stages.insert(whole_result.timings.stages.begin(), result.timings.stages.begin(), result.timings.stages.end());
-  whole_result.messages.notes.insert(whole_result.messages.notes.begin(), result.messages.notes.begin(), result.messages.notes.end());
-  whole_result.messages.warnings.insert(whole_result.messages.warnings.begin(), result.messages.warnings.begin(), result.messages.warnings.end());
+  // The part search ran first: its timings and remarks come before the complete pipeline's.
+  append(result.timings.stages, whole_result.timings.stages);
+  append(result.messages.notes, whole_result.messages.notes);
+  append(result.messages.warnings, whole_result.messages.warnings);
+  whole_result.timings.stages = std::move(result.timings.stages);
+  whole_result.messages = std::move(result.messages);
   whole_result.messages.notes.push_back(why);
   whole_result.quality.part_scale = whole_evidence.scale;
   whole_result.diagnostics.part.candidates = std::move(result.diagnostics.part.candidates);

@@ -11,48 +11,69 @@
 
 namespace isocorr {
 
+namespace {
+
+// The dense map of clean vertices, and the candidates' maps, in the input files' numbering;
+// -1 (no counterpart) stays -1.
+void to_file_numbering(const DenseMap& dense, const CleanMesh& source, const CleanMesh& target, MatchResult& result) {
+  auto forward_in_files = [&](const std::vector<int>& clean_forward) {
+    std::vector<int> in_files(source.input_to_clean.size());
+    for (size_t i = 0; i < in_files.size(); ++i)
+      in_files[i] = target.clean_to_input[clean_forward[source.input_to_clean[i]]];
+    return in_files;
+  };
+  MatchOutput& out = result.output;
+  out.forward = forward_in_files(dense.forward);
+  out.forward_confidence.resize(source.input_to_clean.size());
+  for (size_t i = 0; i < source.input_to_clean.size(); ++i)
+    out.forward_confidence[i] = dense.forward_diso[source.input_to_clean[i]];
+  for (DenseCandidate& candidate : result.diagnostics.refinement.candidates)
+    candidate.forward = forward_in_files(candidate.forward);
+  for (PartCandidate& candidate : result.diagnostics.part.candidates)
+    candidate.forward = forward_in_files(candidate.forward);
+  out.reverse.resize(target.input_to_clean.size());
+  out.reverse_confidence.resize(target.input_to_clean.size());
+  for (size_t i = 0; i < target.input_to_clean.size(); ++i) {
+    const int c = target.input_to_clean[i];
+    out.reverse[i] = dense.reverse[c] < 0 ? -1 : source.clean_to_input[dense.reverse[c]];
+    out.reverse_confidence[i] = dense.reverse_diso[c];
+  }
+}
+
+// D_iso, d_iso-dagger and orientation of the returned map. A refined map's were measured
+// while choosing (D_iso as the winner's distortion between coarse samples, exactly); the
+// C2F map's come from its anchors' residuals.
+void measure_quality(const PreprocessedShape& source, const PreprocessedShape& target, const DenseMap& dense,
+                     MatchResult& result) {
+  const RefinementDiagnostics& refinement = result.diagnostics.refinement;
+  MatchQuality& quality = result.quality;
+  if (!refinement.candidates.empty()) {
+    const DenseEvidence& winner = refinement.candidates[refinement.chosen].evidence;
+    quality.diso = winner.distortion;
+    quality.diso_max = winner.distortion_max;
+    quality.orientation = winner.orientation;
+    return;
+  }
+  double sum = 0, worst = 0;
+  for (float d : dense.forward_diso) sum += d, worst = std::max(worst, static_cast<double>(d));
+  quality.diso = sum / std::max<size_t>(1, dense.forward_diso.size());
+  quality.diso_max = worst;
+  quality.orientation =
+      dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(), target.normals(), dense.forward);
+}
+
+}  // namespace
+
 MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShape& target,
                          const MatchSettings& settings, const JobControl& control) {
   MatchResult result;
   const DenseMap dense = settings.method != MatchMethod::kFull
                              ? match_part_or_whole(source, target, settings, result, control)
                              : match_whole(source, target, settings, result, control);
-
-  // Back to the files' numbering; -1 (no counterpart) stays -1.
   const CleanMesh& sc = source.clean();
   const CleanMesh& tc = target.clean();
-  MatchOutput& out = result.output;
-  auto forward_in_files = [&](const std::vector<int>& clean_forward) {
-    std::vector<int> in_files(sc.input_to_clean.size());
-    for (size_t i = 0; i < in_files.size(); ++i) in_files[i] = tc.clean_to_input[clean_forward[sc.input_to_clean[i]]];
-    return in_files;
-  };
-  out.forward = forward_in_files(dense.forward);
-  out.forward_confidence.resize(sc.input_to_clean.size());
-  for (size_t i = 0; i < sc.input_to_clean.size(); ++i) out.forward_confidence[i] = dense.forward_diso[sc.input_to_clean[i]];
-  for (DenseCandidate& candidate : result.diagnostics.refinement.candidates) candidate.forward = forward_in_files(candidate.forward);
-  for (PartCandidate& candidate : result.diagnostics.part.candidates) candidate.forward = forward_in_files(candidate.forward);
-  out.reverse.resize(tc.input_to_clean.size());
-  out.reverse_confidence.resize(tc.input_to_clean.size());
-  for (size_t i = 0; i < tc.input_to_clean.size(); ++i) {
-    const int c = tc.input_to_clean[i];
-    out.reverse[i] = dense.reverse[c] < 0 ? -1 : sc.clean_to_input[dense.reverse[c]];
-    out.reverse_confidence[i] = dense.reverse_diso[c];
-  }
-  if (result.diagnostics.refinement.candidates.empty()) {
-    double sum = 0, worst = 0;
-    for (float d : dense.forward_diso) sum += d, worst = std::max(worst, static_cast<double>(d));
-    result.quality.diso = sum / std::max<size_t>(1, dense.forward_diso.size());
-    result.quality.diso_max = worst;
-  } else {  // refined: the winner's distortion between coarse samples, measured exactly
-    result.quality.diso = result.diagnostics.refinement.candidates[result.diagnostics.refinement.chosen].evidence.distortion;
-    result.quality.diso_max = result.diagnostics.refinement.candidates[result.diagnostics.refinement.chosen].evidence.distortion_max;
-  }
-  // Refined: measured already while choosing.
-  result.quality.orientation = result.diagnostics.refinement.candidates.empty()
-                                 ? dense_orientation_agreement(source.mesh(), source.normals(), target.mesh(),
-                                                             target.normals(), dense.forward)
-                                 : result.diagnostics.refinement.candidates[result.diagnostics.refinement.chosen].evidence.orientation;
+  to_file_numbering(dense, sc, tc, result);
+  measure_quality(source, target, dense, result);
   if (settings.method != MatchMethod::kFull) {
     result.quality.target_matched_share = matched_area_share(vertex_areas(target.mesh()), dense.reverse);
     // Kappa in the files' units: each mesh was normalised by its own power of two.
