@@ -82,6 +82,28 @@ Result run_interruptibly(const std::function<Result(const JobControl&)>& work, c
   return running.get();
 }
 
+// A row-major float32 (rows x cols) copy of an Eigen matrix.
+template <class Matrix>
+py::array_t<float> matrix_array(const Matrix& matrix) {
+  py::array_t<float> array({static_cast<py::ssize_t>(matrix.rows()), static_cast<py::ssize_t>(matrix.cols())});
+  auto out = array.mutable_unchecked<2>();
+  for (Eigen::Index i = 0; i < matrix.rows(); ++i)
+    for (Eigen::Index j = 0; j < matrix.cols(); ++j) out(i, j) = matrix(i, j);
+  return array;
+}
+
+// The shape's spectral basis with one row per vertex given (a merged duplicate shares its
+// representative's row).
+py::array_t<float> basis_in_input_numbering(const PreprocessedShape& shape) {
+  const PreprocessedShape::SpectralBasis& basis = shape.spectral_basis();
+  const std::vector<int>& input_to_clean = shape.clean().input_to_clean;
+  py::array_t<float> array({static_cast<py::ssize_t>(input_to_clean.size()), static_cast<py::ssize_t>(basis.cols())});
+  auto out = array.mutable_unchecked<2>();
+  for (size_t i = 0; i < input_to_clean.size(); ++i)
+    for (Eigen::Index j = 0; j < basis.cols(); ++j) out(i, j) = basis(input_to_clean[i], j);
+  return array;
+}
+
 // Hands run_match the shapes the caller built.
 class GivenShapes : public ShapeProvider {
  public:
@@ -154,6 +176,17 @@ isocorr.settings() (scope 'preprocess'), and `threads`.)")
       .def_property_readonly("F", [](const Shape& s) { return arrays_from_mesh(s.mesh)[1]; },
                              "the triangles given, int32 (m, 3)")
       .def_property_readonly("num_vertices", [](const Shape& s) { return s.mesh.num_vertices(); })
+      .def_property_readonly(
+          "basis", [](const Shape& s) { return basis_in_input_numbering(*s.shape); },
+          "float32 (n, spectral_basis): Laplace-Beltrami eigenfunctions, one row per vertex given, "
+          "orthonormal under the lumped mass matrix divided by the area; the basis of Match.C")
+      .def_property_readonly(
+          "eigenvalues",
+          [](const Shape& s) {
+            const Eigen::VectorXf& values = s.shape->spectral_eigenvalues();
+            return float_array(std::vector<float>(values.data(), values.data() + values.size()));
+          },
+          "float32 (spectral_basis,): the basis's eigenvalues times the area, ascending")
       .def("__repr__", [](const Shape& s) {
         return "<isocorr.Shape: " + std::to_string(s.mesh.num_vertices()) + " vertices, " +
                std::to_string(s.mesh.num_faces()) + " faces>";
@@ -175,6 +208,16 @@ void register_match_class(py::module_& module) {
       .def_property_readonly(
           "report", [](const Match& m) { return py::module_::import("json").attr("loads")(m.result.output.report_json); },
           "the JSON report as a dict: settings, stage timings, candidates, why the winner won")
+      .def_property_readonly(
+          "C",
+          [](const Match& m) -> py::object {
+            const Eigen::MatrixXf& c = m.result.diagnostics.refinement.functional_map;
+            if (c.size() == 0) return py::none();
+            return matrix_array(c);
+          },
+          "float32 (k, k) or None: the refinement's last functional map over the first k columns of "
+          "each Shape.basis, with source.basis[:, :k] @ C ~ target.basis[forward, :k] (it pulls target "
+          "functions back to the source); None when the refinement did not run (part matching, refine=none)")
       .def_property_readonly("diso", [](const Match& m) { return m.result.quality.diso; },
                              "D_iso of the final map")
       .def_property_readonly("orientation", [](const Match& m) { return m.result.quality.orientation; },

@@ -57,6 +57,21 @@ def test_a_shape_reused_for_two_matches_gives_the_maps_of_fresh_ones(examples):
     assert np.array_equal(second.forward, isocorr.match(moved, (V, F)).forward)
 
 
+def test_the_functional_map_carries_the_source_basis_onto_the_target_basis(examples):
+    shape = isocorr.Shape(*creature(examples, "creature.ply"))
+    moved = isocorr.Shape(*creature(examples, "creature_moved.ply"))
+    m = isocorr.match(shape, moved)
+    k = m.C.shape[0]
+    assert m.C.shape == (k, k) and 0 < k <= shape.basis.shape[1]
+    assert shape.basis.shape[0] == shape.num_vertices and np.all(np.diff(shape.eigenvalues) >= 0)
+    pulled, aimed = shape.basis[:, :k] @ m.C, moved.basis[m.forward, :k]
+    # Against a shuffled map the same basis misses by about its own size.
+    shuffled = moved.basis[np.random.default_rng(0).permutation(m.forward), :k]
+    assert np.linalg.norm(pulled - aimed) < 0.5 * np.linalg.norm(aimed)
+    assert np.linalg.norm(shape.basis[:, :k] @ m.C - shuffled) > 0.9 * np.linalg.norm(aimed)
+    assert isocorr.match(shape, moved, refine="none").C is None
+
+
 def test_settings_are_checked_by_name_type_and_range(examples):
     pair = (creature(examples, "creature.ply"), creature(examples, "creature_moved.ply"))
     with pytest.raises(ValueError, match="unknown setting 'no_such_setting'"):

@@ -135,6 +135,7 @@ DenseMap refine(const PreprocessedShape& source, const PreprocessedShape& target
   diagnostics.candidates = std::move(refined.candidates);
   diagnostics.chosen = refined.chosen;
   diagnostics.why = std::move(refined.why);
+  diagnostics.functional_map = std::move(refined.functional_map);
   result.timings.refine_steps = std::move(refined.timings);
   result.diagnostics.tracking.chosen = diagnostics.candidates[diagnostics.chosen].tracked_index;
   return std::move(refined.dense);

@@ -340,6 +340,7 @@ class CandidateRefinement {
     result_.dense.forward_diso = std::move(map.residual);
     result_.dense.reverse = std::move(map.reverse_image);
     result_.dense.reverse_diso = std::move(map.reverse_residual);
+    result_.functional_map = std::move(map.c);
     return std::move(result_);
   }
 

@@ -4,6 +4,7 @@
 // which the report and the benchmarks show.
 #pragma once
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
 
@@ -57,6 +58,10 @@ struct RefinementDiagnostics {
   std::vector<DenseCandidate> candidates;
   int chosen = 0;
   std::string why;
+  // The winner's last functional map, k x k over the first k spectral basis functions of
+  // each shape: source_basis * C ~ target_basis at the forward map's rows (the pull-back of
+  // target functions). Empty when the refinement did not run.
+  Eigen::MatrixXf functional_map;
 };
 
 // method = part or ravac: one dense candidate of the part search (or RAVAC) and the

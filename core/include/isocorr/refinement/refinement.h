@@ -29,6 +29,7 @@ struct RefinedMatch {
   // What the mirror repair did to the winner once chosen, and in its last rigidity polish
   // (settings.rigidity.mirror_repair).
   MirrorRepair mirror_repair_chosen, mirror_repair;
+  Eigen::MatrixXf functional_map;  // the winner's last C (SpectralMap::c)
   FinalPolishOutcome final_polish;  // settings.rigidity_final_iterations (after settings.refine_passes)
   // Wall-clock time of each stage, named as refine_and_choose runs them: screen, refine,
   // drop_duplicates, preselect, finish, choose, unfold_mirrors, spectral_polish,
