@@ -1,8 +1,9 @@
 # isocorr on Debian 12, packages only. The build stage installs exactly the list that
-# scripts/install-deps.sh installs in CI (deploy/packages.txt), through the same script.
+# scripts/install-deps.sh installs in CI (deploy/packages-engine.txt and packages.txt),
+# through the same script.
 FROM debian:12 AS build
 WORKDIR /src
-COPY deploy/packages.txt deploy/packages.txt
+COPY deploy/packages-engine.txt deploy/packages.txt deploy/
 COPY scripts/install-deps.sh scripts/install-deps.sh
 RUN ./scripts/install-deps.sh && rm -rf /var/lib/apt/lists/*
 COPY . .

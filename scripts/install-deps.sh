@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
-# Installs the Debian packages in deploy/packages.txt that this machine lacks.
+# Installs the Debian packages that this machine lacks: those of deploy/packages-engine.txt
+# and deploy/packages.txt, or with --engine-only those of the engine alone.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
-mapfile -t wanted < <(grep -v '^\s*#' "$here/deploy/packages.txt" | grep -v '^\s*$')
+lists=("$here/deploy/packages-engine.txt")
+[ "${1:-}" = "--engine-only" ] || lists+=("$here/deploy/packages.txt")
+mapfile -t wanted < <(cat "${lists[@]}" | grep -v '^\s*#' | grep -v '^\s*$')
 missing=()
 for pkg in "${wanted[@]}"; do
   dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q 'install ok installed' || missing+=("$pkg")
