@@ -12,6 +12,7 @@
 #include "isocorr/eval/ground_truth.h"
 #include "isocorr/eval/metrics.h"
 #include "isocorr/output/map_files.h"
+#include "isocorr/output/precise_map_files.h"
 #include "isocorr/util/error.h"
 #include "isocorr/geodesic/geodesic_diameter.h"
 #include "mesh_files.h"
@@ -25,7 +26,18 @@ struct EvalArguments {
   std::string source, target, map, dataset, gt_kind, errors_out;
   int max_points = 2000;
   bool json = false;
+  bool precise = false;  // MAP is a precise map (match --precise-out)
 };
+
+// A precise map's nearest corners: the vertex map it refines.
+std::vector<int> nearest_corners(const TriangleMesh& target, const PreciseMap& precise) {
+  std::vector<int> corners(precise.size());
+  for (size_t v = 0; v < precise.size(); ++v) {
+    if (precise[v].face < 0) throw InputError("the precise map leaves source vertex " + std::to_string(v) + " unmatched");
+    corners[v] = nearest_corner(target, precise[v]);
+  }
+  return corners;
+}
 
 // One line per scored point: source vertex, error / diameter, 1 if nearer its mirror image.
 void write_point_errors(const std::string& path, const GroundTruthScore& score) {
@@ -55,9 +67,17 @@ int run_eval(const EvalArguments& args) {
       if (pair.gt_kind.empty())
         throw InputError("pair not in " + args.dataset + "/pairs.tsv; give --gt-kind");
     }
-    const std::vector<int> forward = read_map(args.map);
     const LoadedMesh source = load_mesh_file("source", pair.source_path);
     const LoadedMesh target = load_mesh_file("target", pair.target_path);
+    PreciseMap precise;
+    std::vector<int> forward;
+    if (args.precise) {
+      precise = read_precise_map(args.map);
+      check_precise_map_fits(precise, source.mesh.num_vertices(), target.mesh.num_faces());
+      forward = nearest_corners(target.mesh, precise);
+    } else {
+      forward = read_map(args.map);
+    }
     check_map_fits(forward, source.mesh.num_vertices(), target.mesh.num_vertices());
     const GroundTruth truth =
         load_ground_truth(dataset.string(), pair, source.mesh.num_vertices(), target.mesh.num_vertices());
@@ -66,6 +86,7 @@ int run_eval(const EvalArguments& args) {
     const double diameter = estimate_geodesic_diameter(geodesics);
     EvaluationOptions options;
     options.max_points = args.max_points;
+    if (args.precise) options.precise = &precise;
     const GroundTruthScore score = score_against_ground_truth(target.mesh, geodesics, diameter, forward, truth, options);
     if (!args.errors_out.empty()) write_point_errors(args.errors_out, score);
     const std::vector<int> seed_counts = {10, 20, 50, 100, 200, 500};
@@ -122,6 +143,8 @@ void register_eval_command(CLI::App& app, int& exit_code) {
                   "(default: looked up in the dataset's pairs.tsv)");
   cmd->add_option("--max-points", args->max_points, "ground-truth points scored (0 = all)")->capture_default_str();
   cmd->add_flag("--json", args->json, "print JSON");
+  cmd->add_flag("--precise", args->precise,
+                "MAP is a precise map (match --precise-out): errors are measured from each vertex's point");
   cmd->add_option("--errors-out", args->errors_out,
                   "write each scored point's source vertex, error / diameter and mirror flag, one per line");
   cmd->callback([args, &exit_code] { exit_code = run_eval(*args); });

@@ -15,6 +15,7 @@
 #include "isocorr/output/match_report.h"
 #include "isocorr/pipeline/run_match.h"
 #include "mesh_files.h"
+#include "precise_outputs.h"
 #include "progress_printer.h"
 #include "settings_flags.h"
 
@@ -33,7 +34,8 @@ void on_interrupt(int) {
 void check_output_directories(const MatchJobFiles& args) {
   const std::pair<const char*, const std::string*> outputs[] = {
       {"map", &args.output}, {"reverse map", &args.reverse_output}, {"report", &args.report},
-      {"coloured meshes", &args.colour_ply}};
+      {"coloured meshes", &args.colour_ply}, {"precise map", &args.precise_output},
+      {"reverse precise map", &args.reverse_precise_output}};
   for (const auto& [what, file] : outputs) {
     if (file->empty()) continue;
     std::filesystem::path directory = std::filesystem::path(*file).parent_path();
@@ -80,6 +82,7 @@ int match_locally(const MatchJobFiles& args) {
       if (!report) throw InputError("cannot write report '" + args.report + "'");
     }
     if (!args.colour_ply.empty()) write_colour_ply_pair(args.colour_ply, source.mesh, target.mesh, out.reverse);
+    write_precise_outputs(args, source.mesh, target.mesh, out.forward, out.reverse);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     // The report's numbers: its "chosen" tracked map and its final orientation.
     const TrackingDiagnostics& tracking = result.diagnostics.tracking;
@@ -118,6 +121,10 @@ void register_match_command(CLI::App& app, int& exit_code, RemoteMatchRunner rem
   cmd->add_option("--report", args->report, "write a JSON report (timings, candidates, tracked maps, D_iso)");
   cmd->add_option("--colour-ply", args->colour_ply,
                   "write PREFIXsource.ply and PREFIXtarget.ply, the target coloured through the map");
+  cmd->add_option("--precise-out", args->precise_output,
+                  "also write the precise map: per source vertex a target face and its corners' weights "
+                  "('face w0 w1 w2' lines; NumPy (N, 4) if .npy)");
+  cmd->add_option("--reverse-precise-out", args->reverse_precise_output, "the same for the reverse map");
   add_match_settings_flags(*cmd, args->settings);
   cmd->callback([args, remote, &exit_code] {
     try {

@@ -27,6 +27,7 @@
 #include "isocorr/pipeline/run_match.h"
 #include "isocorr/mesh/mesh_io.h"
 #include "isocorr/refinement/refinement.h"
+#include "isocorr/transfer/precise_map.h"
 #include "isocorr/util/huge_page_malloc.h"
 #include "settings_flags.h"
 
@@ -36,6 +37,7 @@ using namespace isocorr;
 
 struct RuleOutcome {
   double d_grd = 0, d_grd_max = 0, kim_auc = 0, diso = 0, mirrored = -1;
+  double d_grd_precise = -1;  // of the map's precise map (precise_map.h); -1: not measured
   int flip_free = 0, tracked = 0, chosen_rank = 0;
 };
 
@@ -101,6 +103,14 @@ PairOutcome run_pair(const std::string& dataset, const BenchmarkPair& pair, Matc
   const double diameter = estimate_geodesic_diameter(geodesics);
   const MatchResult* results[] = {&as_set, &c2f, &paper};
   for (int i = 0; i < (as_set_only ? 1 : 3); ++i) outcome.variants[i] = score(*results[i], target.mesh, geodesics, diameter, truth, points);
+  {
+    const PreciseMap precise = precise_map(source.mesh, target.mesh, as_set.output.forward, settings.threads);
+    EvaluationOptions options;
+    options.max_points = points;
+    options.precise = &precise;
+    outcome.variants[0].d_grd_precise =
+        score_against_ground_truth(target.mesh, geodesics, diameter, as_set.output.forward, truth, options).mean_error;
+  }
   if (candidates) {
     EvaluationOptions options;
     options.max_points = points;
@@ -163,7 +173,7 @@ std::string serialise(const PairOutcome& o) {
   out.precision(9);
   out << o.ok << ' ' << o.vertices << ' ' << o.seconds;
   for (const RuleOutcome& r : o.variants)
-    out << ' ' << r.d_grd << ' ' << r.d_grd_max << ' ' << r.kim_auc << ' ' << r.diso << ' ' << r.mirrored
+    out << ' ' << r.d_grd << ' ' << r.d_grd_precise << ' ' << r.d_grd_max << ' ' << r.kim_auc << ' ' << r.diso << ' ' << r.mirrored
         << ' ' << r.flip_free << ' ' << r.tracked << ' ' << r.chosen_rank;
   out << ' ' << o.candidates.size();
   for (const CandidateOutcome& c : o.candidates)
@@ -179,7 +189,7 @@ PairOutcome deserialise(const std::string& line) {
   PairOutcome o;
   in >> o.ok >> o.vertices >> o.seconds;
   for (RuleOutcome& r : o.variants)
-    in >> r.d_grd >> r.d_grd_max >> r.kim_auc >> r.diso >> r.mirrored >> r.flip_free >> r.tracked >>
+    in >> r.d_grd >> r.d_grd_precise >> r.d_grd_max >> r.kim_auc >> r.diso >> r.mirrored >> r.flip_free >> r.tracked >>
         r.chosen_rank;
   size_t count = 0;
   in >> count;
@@ -224,19 +234,21 @@ PairOutcome run_in_child(const std::string& dataset, const BenchmarkPair& pair, 
 
 void print_rule_row(const char* rule, const std::vector<PairOutcome>& outcomes, int variant) {
   int ok = 0, flip_free = 0;
-  double d_grd = 0, d_max = 0, auc = 0, diso = 0;
+  double d_grd = 0, d_precise = 0, d_max = 0, auc = 0, diso = 0;
   for (const auto& o : outcomes) {
     if (!o.ok) continue;
     const RuleOutcome& r = o.variants[variant];
     ++ok;
     auc += r.kim_auc;
     diso += r.diso;
-    if (r.flip_free) ++flip_free, d_grd += r.d_grd, d_max += r.d_grd_max;
+    if (r.flip_free) ++flip_free, d_grd += r.d_grd, d_precise += r.d_grd_precise, d_max += r.d_grd_max;
   }
   if (!ok) return;
-  std::printf("  %-12s flip-free %3d/%-3d (%5.1f%%)  D_grd(flip-free) %.4f  d_grd-dagger %.4f  Kim AUC %.3f  D_iso %.4f\n",
+  std::printf("  %-12s flip-free %3d/%-3d (%5.1f%%)  D_grd(flip-free) %.4f  d_grd-dagger %.4f  Kim AUC %.3f  D_iso %.4f",
               rule, flip_free, ok, 100.0 * flip_free / ok, flip_free ? d_grd / flip_free : NAN,
               flip_free ? d_max / flip_free : NAN, auc / ok, diso / ok);
+  if (variant == 0 && flip_free && d_precise >= 0) std::printf("  precise D_grd(flip-free) %.4f", d_precise / flip_free);
+  std::printf("\n");
 }
 
 // Per mesh, the pairs of the first variant it takes part in (as source or target): on a
@@ -321,6 +333,7 @@ int main(int argc, char** argv) {
         const char* labels[] = {first_label, "C2F", "paper"};
         for (int i = 0; i < (run.as_set_only ? 1 : 3); ++i) {
           std::printf(" | %s: %s D_grd %.4f", labels[i], o.variants[i].flip_free ? "ok  " : "FLIP", o.variants[i].d_grd);
+          if (o.variants[i].d_grd_precise >= 0) std::printf(" precise %.4f", o.variants[i].d_grd_precise);
           if (!run.from_truth) std::printf(" #%d", o.variants[i].chosen_rank + 1);  // the tracked map's level-0 rank
         }
         std::printf("\n");

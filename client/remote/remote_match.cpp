@@ -10,6 +10,7 @@
 #include "isocorr/output/map_files.h"
 #include "mesh_files.h"
 #include "progress_printer.h"
+#include "precise_outputs.h"
 #include "remote/job_follow.h"
 #include "remote/job_output.h"
 #include "remote/mesh_upload.h"
@@ -53,7 +54,8 @@ int run_remote_match(const ConnectionOptions& options, const MatchJobFiles& file
     }
 
     std::vector<ResultPart> parts = {ResultPart::kForwardMap};
-    if (!files.reverse_output.empty() || !files.colour_ply.empty()) parts.push_back(ResultPart::kReverseMap);
+    if (!files.reverse_output.empty() || !files.colour_ply.empty() || !files.reverse_precise_output.empty())
+      parts.push_back(ResultPart::kReverseMap);
     if (!files.report.empty()) parts.push_back(ResultPart::kReport);
     const MatchOutput result = download_result(connection, job.name(), parts);
     write_map(files.output, result.forward);
@@ -63,10 +65,12 @@ int run_remote_match(const ConnectionOptions& options, const MatchJobFiles& file
       out << result.report_json << '\n';
       if (!out) throw InputError("cannot write report '" + files.report + "'");
     }
-    if (!files.colour_ply.empty())
-      write_colour_ply_pair(files.colour_ply, load_mesh_file("source", files.source).mesh,
-                            load_mesh_file("target", files.target).mesh,
-                            result.reverse);
+    if (!files.colour_ply.empty() || !files.precise_output.empty() || !files.reverse_precise_output.empty()) {
+      const TriangleMesh source_mesh = load_mesh_file("source", files.source).mesh;
+      const TriangleMesh target_mesh = load_mesh_file("target", files.target).mesh;
+      if (!files.colour_ply.empty()) write_colour_ply_pair(files.colour_ply, source_mesh, target_mesh, result.reverse);
+      write_precise_outputs(files, source_mesh, target_mesh, result.forward, result.reverse);
+    }
     spdlog::info("matched {} -> {} vertices on the server: D_iso {:.4f}; map written to {}",
                  job.result().source_vertex_count(), job.result().target_vertex_count(), job.result().diso(),
                  files.output);

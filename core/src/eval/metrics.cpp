@@ -58,6 +58,26 @@ std::vector<int> voronoi_labels(const TriangleMesh& mesh, const MeshTopology& to
   return label;
 }
 
+// The geodesic distance from a point on the target to `truth_vertex`: the corners'
+// distances, interpolated by the point's weights. `vertex_error` is the distance from the
+// point's nearest corner, which bounds the search: no corner is farther than it plus two
+// of the face's edges.
+double point_error(const TriangleMesh& target, const FastMarching& geodesics, const SurfacePoint& point,
+                   int truth_vertex, double vertex_error, FastMarching::Workspace& ws) {
+  const Face& face = target.faces.at(point.face);
+  double longest_edge = 0;
+  for (int j = 0; j < 3; ++j)
+    longest_edge = std::max(longest_edge, (target.vertices[face[j]] - target.vertices[face[(j + 1) % 3]]).norm());
+  geodesics.compute({truth_vertex}, ws, static_cast<float>(vertex_error + 2.5 * longest_edge));
+  double error = 0;
+  for (int j = 0; j < 3; ++j) {
+    const float d = ws.distance[face[j]];
+    if (d == kUnreached) return vertex_error;
+    error += point.weights[j] * d;
+  }
+  return error;
+}
+
 }  // namespace
 
 GroundTruthScore score_against_ground_truth(const TriangleMesh& target, const FastMarching& target_geodesics,
@@ -73,6 +93,15 @@ GroundTruthScore score_against_ground_truth(const TriangleMesh& target, const Fa
   const double sqrt_area = std::sqrt(total_area(target));
   if (!(sqrt_area > 0)) throw InputError("the target mesh has zero area");
   const bool has_mirror = !truth.mirrored_target.empty();
+  if (options.precise) {
+    if (options.precise->size() != forward.size())
+      throw InputError("the precise map has " + std::to_string(options.precise->size()) + " points for " +
+                       std::to_string(forward.size()) + " source vertices");
+    for (const SurfacePoint& point : *options.precise)
+      if (point.face < -1 || point.face >= target.num_faces())
+        throw InputError("the precise map names face " + std::to_string(point.face) + ", not a face of the target (" +
+                         std::to_string(target.num_faces()) + " faces)");
+  }
 
   GroundTruthScore score;
   for (int j = 0; j <= 100; ++j) score.kim_thresholds.push_back(0.25 * j / 100.0);
@@ -113,6 +142,8 @@ GroundTruthScore score_against_ground_truth(const TriangleMesh& target, const Fa
     error[i] = d == kUnreached ? target_diameter : d;
     const int mirror = has_mirror ? truth.mirrored_target[k] : -1;
     nearer_mirror[i] = mirror >= 0 && ws.distance[mirror] != kUnreached && ws.distance[mirror] < error[i];
+    if (options.precise && d != kUnreached && (*options.precise)[truth.source[k]].face >= 0)
+      error[i] = point_error(target, target_geodesics, (*options.precise)[truth.source[k]], truth_vertex, error[i], ws);
   });
 
   int mirrored = 0, far = 0;

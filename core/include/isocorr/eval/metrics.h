@@ -7,6 +7,7 @@
 
 #include "isocorr/eval/ground_truth.h"
 #include "isocorr/geodesic/fast_marching.h"
+#include "isocorr/transfer/precise_map.h"
 
 namespace isocorr {
 
@@ -31,6 +32,10 @@ struct GroundTruthScore {
 struct EvaluationOptions {
   int max_points = 2000;        // ground-truth pairs scored (evenly strided); 0 = all
   int threads = 0;
+  // When given, each error is measured from the source vertex's point on the target (the
+  // corners' geodesic distances to the true vertex, interpolated by the point's weights)
+  // instead of from its vertex; the vertex map passed beside it is its nearest corners.
+  const PreciseMap* precise = nullptr;
 };
 
 // `target_diameter` normalises D_grd. `forward` maps every source vertex (file numbering)
