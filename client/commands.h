@@ -28,6 +28,7 @@ enum ExitCode : int {
 struct MatchJobFiles {
   std::string source, target, output, reverse_output, report;
   std::string colour_ply;  // prefix of the coloured PLY pair, empty = none
+  std::string precise_output, reverse_precise_output;  // precise maps (precise_map.h), empty = none
   MatchSettings settings;
 };
 
@@ -39,5 +40,6 @@ void register_match_command(CLI::App& app, int& exit_code, RemoteMatchRunner rem
 void register_eval_command(CLI::App& app, int& exit_code);
 void register_render_command(CLI::App& app, int& exit_code);
 void register_cut_command(CLI::App& app, int& exit_code);
+void register_transfer_command(CLI::App& app, int& exit_code);
 
 }  // namespace isocorr::cli

@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
   isocorr::cli::register_eval_command(app, exit_code);
   isocorr::cli::register_render_command(app, exit_code);
   isocorr::cli::register_cut_command(app, exit_code);
+  isocorr::cli::register_transfer_command(app, exit_code);
 #ifdef ISOCORR_WITH_SERVICE
   *remote_match = isocorr::cli::register_remote_commands(app, connection, exit_code);
 #endif
