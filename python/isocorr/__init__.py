@@ -18,6 +18,12 @@ A map is scored against ground truth as `isocorr eval` scores it::
     score = isocorr.evaluate(V2, F2, m.forward, truth)   # truth: true target vertex per source vertex
     score["d_grd"], score["kim_auc"]
 
+Attributes of the target (colours, weights, labels) are pulled onto the source, at each
+vertex's precise point on the target surface::
+
+    faces, weights = isocorr.precise_map((V1, F1), (V2, F2), m.forward)
+    colours1 = isocorr.transfer(colours2, (faces, weights), F2)
+
 An isocorr-server is reached with isocorr.Client (python3-grpcio)::
 
     with isocorr.Client("127.0.0.1:50051") as server:
@@ -27,10 +33,12 @@ Settings are keyword arguments named as in isocorr.settings() (the command line'
 with underscores); a bad one raises ValueError naming it.
 """
 
-from ._isocorr import Match, Shape, __version__, coverage, evaluate, match, read_mesh, settings, write_mesh
+from ._isocorr import (Match, Shape, __version__, coverage, evaluate, match, precise_map, read_mesh, render_pair,
+                       settings, transfer, write_mesh)
 
 __all__ = [
-    "Match", "Shape", "__version__", "coverage", "evaluate", "match", "read_mesh", "settings", "write_mesh",
+    "Match", "Shape", "__version__", "coverage", "evaluate", "match", "precise_map", "read_mesh", "render_pair",
+    "settings", "transfer", "write_mesh",
 ]
 
 

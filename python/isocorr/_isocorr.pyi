@@ -9,7 +9,7 @@ __version__: str
 MeshArrays = Tuple[npt.ArrayLike, npt.ArrayLike]
 
 def read_mesh(path: str) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int32]]: ...
-def write_mesh(path: str, V: npt.ArrayLike, F: npt.ArrayLike) -> None: ...
+def write_mesh(path: str, V: npt.ArrayLike, F: npt.ArrayLike, colors: Optional[npt.ArrayLike] = ...) -> None: ...
 def settings() -> list[dict[str, Any]]: ...
 
 class Shape:
@@ -64,3 +64,22 @@ def match(
     progress: Optional[Callable[[str, float], Any]] = None,
     **settings: Union[int, float, bool, str],
 ) -> Match: ...
+
+def precise_map(
+    source: Union[Shape, MeshArrays], target: Union[Shape, MeshArrays], forward: npt.ArrayLike, threads: int = ...
+) -> Tuple[npt.NDArray[np.int32], npt.NDArray[np.float32]]: ...
+def transfer(
+    values: npt.ArrayLike,
+    map: Union[npt.ArrayLike, Tuple[npt.ArrayLike, npt.ArrayLike]],
+    F: Optional[npt.ArrayLike] = ...,
+    labels: bool = ...,
+) -> npt.NDArray[Any]: ...
+def render_pair(
+    path: str,
+    source: Union[Shape, MeshArrays],
+    target: Union[Shape, MeshArrays],
+    forward: npt.ArrayLike,
+    width: int = ...,
+    height: int = ...,
+    view: str = ...,
+) -> None: ...

@@ -14,21 +14,6 @@
 namespace isocorr::python {
 namespace {
 
-using IndexArray = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
-
-std::vector<int> indices(const IndexArray& array, const std::string& name) {
-  if (array.ndim() != 1) throw py::value_error(name + " must be a one-dimensional array of vertex indices");
-  const auto values = array.unchecked<1>();
-  std::vector<int> out(values.shape(0));
-  for (py::ssize_t i = 0; i < values.shape(0); ++i) {
-    if (values(i) < -1 || values(i) > std::numeric_limits<int>::max())
-      throw py::value_error(name + "[" + std::to_string(i) + "] = " + std::to_string(values(i)) +
-                            " is no vertex index (nor -1)");
-    out[i] = static_cast<int>(values(i));
-  }
-  return out;
-}
-
 // The target's geodesics, computed once per call.
 struct TargetGeodesics {
   explicit TargetGeodesics(TriangleMesh target_mesh)
@@ -58,10 +43,10 @@ GroundTruth ground_truth(const std::vector<int>& truth, const std::vector<int>& 
 
 py::dict evaluate(const VertexArray& vertices, const FaceArray& faces, const IndexArray& forward_array,
                   const IndexArray& truth_array, const py::object& mirrored_array, int max_points) {
-  const std::vector<int> forward = indices(forward_array, "forward");
-  const std::vector<int> truth = indices(truth_array, "truth");
+  const std::vector<int> forward = index_vector(forward_array, "forward");
+  const std::vector<int> truth = index_vector(truth_array, "truth");
   const std::vector<int> mirrored =
-      mirrored_array.is_none() ? std::vector<int>() : indices(mirrored_array.cast<IndexArray>(), "mirrored");
+      mirrored_array.is_none() ? std::vector<int>() : index_vector(mirrored_array.cast<IndexArray>(), "mirrored");
   if (truth.size() != forward.size())
     throw py::value_error("truth has " + std::to_string(truth.size()) + " entries for " +
                           std::to_string(forward.size()) + " source vertices");
@@ -111,7 +96,7 @@ vertex), mirrored_fraction. At most max_points pairs are scored, evenly strided 
       "coverage",
       [](const VertexArray& vertices, const FaceArray& faces, const IndexArray& forward_array,
          const std::vector<int>& seed_counts) {
-        const std::vector<int> forward = indices(forward_array, "forward");
+        const std::vector<int> forward = index_vector(forward_array, "forward");
         const TargetGeodesics target(mesh_from_arrays(vertices, faces));
         check_map_fits(forward, static_cast<int>(forward.size()), target.mesh.num_vertices());
         py::gil_scoped_release released;

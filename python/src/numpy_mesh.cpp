@@ -1,9 +1,11 @@
 #include "numpy_mesh.h"
 
 #include <algorithm>
+#include <limits>
 #include <string>
 
 #include "isocorr/mesh/mesh_io.h"
+#include "isocorr/output/attribute_files.h"
 
 namespace isocorr::python {
 namespace {
@@ -61,6 +63,19 @@ py::array_t<int32_t> int_array(const std::vector<int>& values) {
   return array;
 }
 
+std::vector<int> index_vector(const IndexArray& array, const std::string& name) {
+  if (array.ndim() != 1) throw py::value_error(name + " must be a one-dimensional array of vertex indices");
+  const auto values = array.unchecked<1>();
+  std::vector<int> out(values.shape(0));
+  for (py::ssize_t i = 0; i < values.shape(0); ++i) {
+    if (values(i) < -1 || values(i) > std::numeric_limits<int>::max())
+      throw py::value_error(name + "[" + std::to_string(i) + "] = " + std::to_string(values(i)) +
+                            " is no vertex index (nor -1)");
+    out[i] = static_cast<int>(values(i));
+  }
+  return out;
+}
+
 py::array_t<float> float_array(const std::vector<float>& values) {
   py::array_t<float> array(static_cast<py::ssize_t>(values.size()));
   std::copy(values.begin(), values.end(), array.mutable_data());
@@ -77,12 +92,18 @@ shape (m, 3), 0-based. Polygons are split into triangles. Raises ValueError nami
 wrong with a malformed file.)");
   module.def(
       "write_mesh",
-      [](const std::string& path, const VertexArray& vertices, const FaceArray& faces) {
-        write_mesh(path, mesh_from_arrays(vertices, faces));
+      [](const std::string& path, const VertexArray& vertices, const FaceArray& faces, const py::object& colors) {
+        const TriangleMesh mesh = mesh_from_arrays(vertices, faces);
+        if (colors.is_none()) return write_mesh(path, mesh);
+        if (!path.ends_with(".ply")) throw py::value_error("vertex colours are written to PLY files only: " + path);
+        const auto table = colors.cast<py::array_t<double, py::array::c_style | py::array::forcecast>>();
+        if (table.ndim() != 2 || table.shape(1) != 3) throw py::value_error("colors must be an array of shape (n, 3)");
+        write_coloured_ply(path, mesh, {static_cast<int>(table.shape(0)), 3, {table.data(), table.data() + table.size()}});
       },
-      py::arg("path"), py::arg("V"), py::arg("F"),
+      py::arg("path"), py::arg("V"), py::arg("F"), py::arg("colors") = py::none(),
       R"(Writes V (n, 3) and F (m, 3) to `path`: OFF or OBJ with exact coordinates, or binary
-PLY (float coordinates), by the name's extension.)");
+PLY (float coordinates), by the name's extension. colors (n, 3), PLY only: per-vertex RGB,
+floats in [0, 1] or integers in [0, 255]; NaN (an unmatched vertex) is grey.)");
 }
 
 }  // namespace isocorr::python

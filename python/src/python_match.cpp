@@ -171,9 +171,9 @@ isocorr.settings() (scope 'preprocess'), and `threads`.)")
              return shape;
            }),
            py::arg("V"), py::arg("F"))
-      .def_property_readonly("V", [](const Shape& s) { return arrays_from_mesh(s.mesh)[0]; },
+      .def_property_readonly("V", [](const Shape& s) { return py::object(arrays_from_mesh(s.mesh)[0]); },
                              "the vertex positions given, float64 (n, 3)")
-      .def_property_readonly("F", [](const Shape& s) { return arrays_from_mesh(s.mesh)[1]; },
+      .def_property_readonly("F", [](const Shape& s) { return py::object(arrays_from_mesh(s.mesh)[1]); },
                              "the triangles given, int32 (m, 3)")
       .def_property_readonly("num_vertices", [](const Shape& s) { return s.mesh.num_vertices(); })
       .def_property_readonly(

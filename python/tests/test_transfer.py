@@ -1,0 +1,61 @@
+"""isocorr.precise_map, isocorr.transfer, write_mesh with colours and render_pair."""
+
+import pathlib
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import isocorr
+
+
+def pair(examples):
+    return (isocorr.read_mesh(str(examples / "meshes" / "creature.ply")),
+            isocorr.read_mesh(str(examples / "meshes" / "creature_moved.ply")))
+
+
+def true_map(examples):
+    return np.loadtxt(examples / "gt" / "creature_to_moved.txt", dtype=np.int64)
+
+
+def test_a_precise_map_of_the_true_map_lands_on_the_true_vertices(examples):
+    (Vs, Fs), (Vt, Ft) = pair(examples)
+    truth = true_map(examples)
+    faces, weights = isocorr.precise_map((Vs, Fs), isocorr.Shape(Vt, Ft), truth)
+    assert faces.dtype == np.int32 and weights.shape == (len(Vs), 3)
+    points = (Vt[Ft[faces]] * weights[:, :, None]).sum(axis=1)
+    assert np.abs(points - Vt[truth]).max() < 1e-4 * np.ptp(Vt)
+    with pytest.raises(ValueError, match="outside"):
+        isocorr.precise_map((Vs, Fs), (Vt, Ft), np.full(len(Vs), len(Vt)))
+
+
+def test_transfer_copies_interpolates_and_keeps_labels_whole(examples):
+    (Vs, Fs), (Vt, Ft) = pair(examples)
+    truth = true_map(examples)
+    copied = isocorr.transfer(Vt, truth)
+    assert copied.shape == Vs.shape and np.array_equal(copied, Vt[truth])
+    precise = isocorr.precise_map((Vs, Fs), (Vt, Ft), truth)
+    interpolated = isocorr.transfer(Vt, precise, Ft)
+    assert np.abs(interpolated - Vt[truth]).max() < 1e-4 * np.ptp(Vt)
+    labels = np.arange(len(Vt)) % 4
+    pulled = isocorr.transfer(labels, precise, Ft, labels=True)
+    assert pulled.dtype == np.int64 and np.array_equal(pulled, labels[truth])
+    with pytest.raises(ValueError, match="faces"):
+        isocorr.transfer(Vt, precise)
+    with pytest.raises(ValueError, match="whole number"):
+        isocorr.transfer(labels + 0.5, truth, labels=True)
+
+
+def test_the_transfer_colours_example_writes_its_meshes_and_picture(examples, tmp_path):
+    script = pathlib.Path(__file__).resolve().parents[2] / "examples" / "python" / "transfer_colours.py"
+    prefix = str(tmp_path / "out_")
+    run = subprocess.run([sys.executable, str(script), str(examples / "meshes" / "creature.ply"),
+                          str(examples / "meshes" / "creature_moved.ply"), prefix], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    V, F = isocorr.read_mesh(prefix + "source.ply")
+    assert len(V) == len(pair(examples)[0][0])
+    png = pathlib.Path(prefix + "pair.png").read_bytes()
+    assert png.startswith(b"\x89PNG\r\n\x1a\n") and len(png) > 1000
+    with pytest.raises(ValueError, match="PLY"):
+        isocorr.write_mesh(str(tmp_path / "x.off"), V, F, colors=np.zeros((len(V), 3)))
