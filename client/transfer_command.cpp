@@ -19,6 +19,7 @@ constexpr const char* kUsage = "isocorr transfer SOURCE TARGET MAP --attribute F
 
 struct TransferArguments {
   std::string source, target, map, attribute, output;
+  std::vector<std::string> properties = kPlyColourProperties;  // of a .ply attribute file
   bool precise = false;  // MAP is a precise map
   bool labels = false;   // integer labels: the majority, never interpolated
 };
@@ -53,7 +54,7 @@ int run_transfer(const TransferArguments& args) {
     check_meshes_before_map(kUsage, args.source, args.map);
     const LoadedMesh source = load_mesh_file("source", args.source);
     const LoadedMesh target = load_mesh_file("target", args.target);
-    const VertexTable attributes = read_vertex_table(args.attribute);
+    const VertexTable attributes = read_vertex_table(args.attribute, args.properties);
     transfer(args, source.mesh, target.mesh, attributes);
     spdlog::info("{} column{} of {} carried onto the {} source vertices; written to {}", attributes.columns,
                  attributes.columns == 1 ? "" : "s", args.attribute, source.mesh.num_vertices(), args.output);
@@ -76,10 +77,14 @@ void register_transfer_command(CLI::App& app, int& exit_code) {
   cmd->add_option("target", args->target, "target mesh (OFF, OBJ or PLY)")->required()->check(CLI::ExistingFile);
   cmd->add_option("map", args->map, "source-to-target map written by `isocorr match`")->required();
   cmd->add_option("--attribute", args->attribute,
-                  "the target's attributes, one row per vertex: text or CSV (a header line is skipped) or .npy "
-                  "(N,) or (N, M)")
+                  "the target's attributes, one row per vertex: text or CSV (a header line is skipped), .npy "
+                  "(N,) or (N, M), or a .ply mesh's vertex properties (--properties)")
       ->required()
       ->check(CLI::ExistingFile);
+  cmd->add_option("--properties", args->properties,
+                  "the vertex properties of a .ply attribute file, comma-separated (e.g. a skin weight)")
+      ->delimiter(',')
+      ->capture_default_str();
   cmd->add_option("-o,--output", args->output,
                   "the source's attributes: .npy (float64), .csv, text, or .ply (the source mesh coloured by three "
                   "columns, 0-1 or 0-255)")

@@ -56,5 +56,31 @@ TEST_F(AttributeFiles, NpyTablesRoundTripAndLabelsMustBeWhole) {
   EXPECT_THROW(labels_of(table, "l"), InputError);
 }
 
+TEST_F(AttributeFiles, PlyVertexColoursAndNamedProperties) {
+  TriangleMesh mesh;
+  mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  mesh.faces = {{0, 1, 2}};
+  const std::string coloured = (dir_ / "coloured.ply").string();
+  write_coloured_ply(coloured, mesh, {3, 3, {255, 0, 0, 0, 255, 0, 0, 0, 128}});
+  const VertexTable colours = read_vertex_table(coloured);
+  EXPECT_EQ(colours.rows, 3);
+  EXPECT_EQ(colours.values, (std::vector<double>{255, 0, 0, 0, 255, 0, 0, 0, 128}));
+
+  const std::string weighted = write_text("weighted.ply",
+                                          "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                          "property float z\nproperty float weight\nelement face 1\n"
+                                          "property list uchar int vertex_indices\nend_header\n"
+                                          "0 0 0 0.25\n1 0 0 0.5\n0 1 0 1\n3 0 1 2\n");
+  const VertexTable weights = read_vertex_table(weighted, {"weight"});
+  EXPECT_EQ(weights.columns, 1);
+  EXPECT_EQ(weights.values, (std::vector<double>{0.25, 0.5, 1}));
+  try {
+    read_vertex_table(weighted);  // no colours in it
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no scalar property 'red' (it has: x y z weight)"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace isocorr

@@ -5,6 +5,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "isocorr/mesh/mesh_io.h"
 
@@ -19,5 +20,8 @@ LoadedMesh parse_ply(std::string_view bytes);
 // as the same double.
 std::string off_text(const TriangleMesh& mesh);
 std::string obj_text(const TriangleMesh& mesh);
+
+// The named scalar properties of a PLY file's vertices, row by row (ply_properties.h).
+std::vector<double> ply_vertex_properties(std::string_view bytes, const std::vector<std::string>& names);
 
 }  // namespace isocorr::mesh_formats

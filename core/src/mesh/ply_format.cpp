@@ -344,3 +344,42 @@ void write_ply(const std::string& path, const TriangleMesh& mesh,
 }
 
 }  // namespace isocorr
+
+namespace isocorr::mesh_formats {
+
+std::vector<double> ply_vertex_properties(string_view bytes, const std::vector<std::string>& names) {
+  const PlyHeader header = parse_ply_header(bytes);
+  const auto vertex_element = std::find_if(header.elements.begin(), header.elements.end(),
+                                           [](const PlyElement& e) { return e.name == "vertex"; });
+  if (vertex_element == header.elements.end()) fail("PLY", "the header declares no vertex element");
+  // Per property of the vertex element, the column it fills (-1: none).
+  std::vector<int> column_of(vertex_element->properties.size(), -1);
+  for (size_t c = 0; c < names.size(); ++c) {
+    const int p = vertex_element->find(names[c]);
+    if (p < 0 || vertex_element->properties[p].is_list) {
+      std::string present;
+      for (const PlyProperty& property : vertex_element->properties) present += " " + property.name;
+      fail("PLY", cat("the vertex element has no scalar property '", names[c], "' (it has:", present, ")"));
+    }
+    column_of[p] = static_cast<int>(c);
+  }
+  std::vector<double> table;
+  PlyValues values(bytes.substr(header.body_offset), header.encoding);
+  for (const PlyElement& element : header.elements) {
+    if (element.properties.empty()) continue;
+    const bool is_vertex = &element == &*vertex_element;
+    std::vector<double> row(names.size());
+    for (long long record = 0; record < element.count; ++record) {
+      values.at_record(element.name, record);
+      for (size_t p = 0; p < element.properties.size(); ++p) {
+        if (is_vertex && column_of[p] >= 0) row[column_of[p]] = values.read(element.properties[p].type);
+        else values.skip(element.properties[p]);
+      }
+      if (is_vertex) table.insert(table.end(), row.begin(), row.end());
+    }
+    if (is_vertex) break;
+  }
+  return table;
+}
+
+}  // namespace isocorr::mesh_formats

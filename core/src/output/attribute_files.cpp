@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "isocorr/mesh/mesh_io.h"
+#include "isocorr/mesh/ply_properties.h"
 #include "isocorr/output/npy_array.h"
 #include "isocorr/util/error.h"
 
@@ -72,7 +73,14 @@ VertexTable parse_text_table(const std::string& bytes, const std::string& path) 
 
 }  // namespace
 
-VertexTable read_vertex_table(const std::string& path) {
+VertexTable read_vertex_table(const std::string& path, const std::vector<std::string>& ply_properties) {
+  if (path.ends_with(".ply") || path.ends_with(".PLY")) {
+    if (ply_properties.empty()) throw InputError(path + ": name the vertex properties to read");
+    VertexTable table{0, static_cast<int>(ply_properties.size()), read_ply_vertex_properties(path, ply_properties)};
+    table.rows = static_cast<int>(table.values.size() / ply_properties.size());
+    if (table.rows == 0) throw InputError(path + ": no vertices");
+    return table;
+  }
   const std::string bytes = read_bytes(path);
   if (!looks_like_npy(bytes)) return parse_text_table(bytes, path);
   NpyTable npy = parse_npy_table(bytes, path);

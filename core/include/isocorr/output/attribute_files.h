@@ -1,7 +1,8 @@
 // Per-vertex attribute files for `isocorr transfer`: tables of one row per vertex.
 //   text (.csv, .txt, anything else): values separated by commas or white space, one row per
 //   line; '#' starts a comment; a first line that is not numbers is a header and skipped;
-//   .npy: a numeric array of shape (N,) or (N, M) (numpy.save writes it).
+//   .npy: a numeric array of shape (N,) or (N, M) (numpy.save writes it);
+//   .ply: the named vertex properties of a mesh file (by default its colours).
 #pragma once
 
 #include <cstdint>
@@ -13,9 +14,13 @@
 
 namespace isocorr {
 
+// Vertex colours, the properties a .ply table is read from unless others are named.
+inline const std::vector<std::string> kPlyColourProperties = {"red", "green", "blue"};
+
 // Throws InputError naming the file and line: rows of different lengths, a value that is
-// no number, an empty table.
-VertexTable read_vertex_table(const std::string& path);
+// no number, an empty table, a .ply property the vertices lack.
+VertexTable read_vertex_table(const std::string& path,
+                              const std::vector<std::string>& ply_properties = kPlyColourProperties);
 
 // .npy: float64 (N, M), or (N,) for one column; .csv: comma-separated; else space-separated.
 // NaN (an unmatched vertex) is written as "nan".
