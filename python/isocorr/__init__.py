@@ -38,8 +38,24 @@ from ._isocorr import (Match, Shape, __version__, coverage, evaluate, match, pre
 
 __all__ = [
     "Match", "Shape", "__version__", "coverage", "evaluate", "match", "precise_map", "read_mesh", "render_pair",
-    "settings", "transfer", "write_mesh",
+    "geodesic_error", "settings", "transfer", "write_mesh",
 ]
+
+
+def geodesic_error(V, F, forward, truth):
+    """Each source vertex's geodesic error on the target (V, F), over the target's diameter.
+
+    forward and truth hold a target vertex per source vertex (truth -1: unknown). Returns
+    float64 (n_source,), NaN where the truth is unknown: the per-point errors whose mean is
+    evaluate()'s d_grd, scored at every point.
+    """
+    import numpy as np
+
+    truth = np.asarray(truth)
+    score = evaluate(V, F, forward, truth, max_points=0)
+    errors = np.full(len(truth), np.nan)
+    errors[score["point_sources"]] = score["point_errors"]
+    return errors
 
 
 def __getattr__(name):

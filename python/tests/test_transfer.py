@@ -59,3 +59,17 @@ def test_the_transfer_colours_example_writes_its_meshes_and_picture(examples, tm
     assert png.startswith(b"\x89PNG\r\n\x1a\n") and len(png) > 1000
     with pytest.raises(ValueError, match="PLY"):
         isocorr.write_mesh(str(tmp_path / "x.off"), V, F, colors=np.zeros((len(V), 3)))
+
+
+def test_geodesic_error_is_per_point_and_averages_to_d_grd(examples):
+    (Vs, Fs), (Vt, Ft) = pair(examples)
+    truth = true_map(examples)
+    shifted = truth.copy()
+    shifted[:50] = truth[50:100]  # 50 wrong points
+    unknown = truth.copy()
+    unknown[-1] = -1
+    errors = isocorr.geodesic_error(Vt, Ft, shifted, unknown)
+    assert errors.shape == (len(Vs),) and np.isnan(errors[-1])
+    assert np.all(errors[50:-1] == 0) and np.all(errors[:50] > 0)
+    score = isocorr.evaluate(Vt, Ft, shifted, unknown, max_points=0)
+    assert np.nanmean(errors) == pytest.approx(score["d_grd"])
