@@ -82,7 +82,7 @@ int match_locally(const MatchJobFiles& args) {
       if (!report) throw InputError("cannot write report '" + args.report + "'");
     }
     if (!args.colour_ply.empty()) write_colour_ply_pair(args.colour_ply, source.mesh, target.mesh, out.reverse);
-    write_precise_outputs(args, source.mesh, target.mesh, out.forward, out.reverse);
+    write_precise_outputs(args, out.forward_precise, out.reverse_precise);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     // The report's numbers: its "chosen" tracked map and its final orientation.
     const TrackingDiagnostics& tracking = result.diagnostics.tracking;

@@ -1,16 +1,12 @@
 // The precise maps a match writes beside its vertex maps (--precise-out,
-// --reverse-precise-out), computed from those maps and the mesh files, for an in-process
-// match and a match on a server alike.
+// --reverse-precise-out).
 #pragma once
 
-#include <vector>
-
 #include "commands.h"
-#include "isocorr/mesh/triangle_mesh.h"
+#include "isocorr/transfer/surface_point.h"
 
 namespace isocorr::cli {
 
-void write_precise_outputs(const MatchJobFiles& files, const TriangleMesh& source, const TriangleMesh& target,
-                           const std::vector<int>& forward, const std::vector<int>& reverse);
+void write_precise_outputs(const MatchJobFiles& files, const PreciseMap& forward, const PreciseMap& reverse);
 
 }  // namespace isocorr::cli

@@ -54,8 +54,9 @@ int run_remote_match(const ConnectionOptions& options, const MatchJobFiles& file
     }
 
     std::vector<ResultPart> parts = {ResultPart::kForwardMap};
-    if (!files.reverse_output.empty() || !files.colour_ply.empty() || !files.reverse_precise_output.empty())
-      parts.push_back(ResultPart::kReverseMap);
+    if (!files.reverse_output.empty() || !files.colour_ply.empty()) parts.push_back(ResultPart::kReverseMap);
+    if (!files.precise_output.empty()) parts.push_back(ResultPart::kForwardPrecise);
+    if (!files.reverse_precise_output.empty()) parts.push_back(ResultPart::kReversePrecise);
     if (!files.report.empty()) parts.push_back(ResultPart::kReport);
     const MatchOutput result = download_result(connection, job.name(), parts);
     write_map(files.output, result.forward);
@@ -65,12 +66,10 @@ int run_remote_match(const ConnectionOptions& options, const MatchJobFiles& file
       out << result.report_json << '\n';
       if (!out) throw InputError("cannot write report '" + files.report + "'");
     }
-    if (!files.colour_ply.empty() || !files.precise_output.empty() || !files.reverse_precise_output.empty()) {
-      const TriangleMesh source_mesh = load_mesh_file("source", files.source).mesh;
-      const TriangleMesh target_mesh = load_mesh_file("target", files.target).mesh;
-      if (!files.colour_ply.empty()) write_colour_ply_pair(files.colour_ply, source_mesh, target_mesh, result.reverse);
-      write_precise_outputs(files, source_mesh, target_mesh, result.forward, result.reverse);
-    }
+    if (!files.colour_ply.empty())
+      write_colour_ply_pair(files.colour_ply, load_mesh_file("source", files.source).mesh,
+                            load_mesh_file("target", files.target).mesh, result.reverse);
+    write_precise_outputs(files, result.forward_precise, result.reverse_precise);
     spdlog::info("matched {} -> {} vertices on the server: D_iso {:.4f}; map written to {}",
                  job.result().source_vertex_count(), job.result().target_vertex_count(), job.result().diso(),
                  files.output);

@@ -1,6 +1,7 @@
 #include "remote/result_download.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 
@@ -20,6 +21,15 @@ void append_chunk(std::vector<T>& out, const v1::ResultChunk& chunk, const Value
   out.insert(out.end(), values.begin(), values.end());
 }
 
+// A precise map's points arrive as their faces (indices) and three weights each (values).
+void append_points(PreciseMap& out, const v1::ResultChunk& chunk) {
+  if (chunk.offset() != static_cast<int64_t>(out.size()) || chunk.values_size() != 3 * chunk.indices_size())
+    throw RpcError("download", grpc::Status(grpc::StatusCode::DATA_LOSS, "precise map chunks arrived malformed"));
+  if (out.empty()) out.reserve(static_cast<size_t>(chunk.total()));
+  for (int i = 0; i < chunk.indices_size(); ++i)
+    out.push_back({chunk.indices(i), {chunk.values(3 * i), chunk.values(3 * i + 1), chunk.values(3 * i + 2)}});
+}
+
 // A map the server sent must have one entry per vertex of its mesh, each a vertex of the
 // other mesh: a corrupted result is refused here rather than written.
 // A reverse map may mark target vertices without a counterpart (a part's match).
@@ -36,6 +46,19 @@ void check_map(const char* what, const std::vector<int>& map, int64_t vertices, 
     if (map[i] >= other_vertices || (map[i] < 0 && !(may_have_no_counterpart && map[i] == kNoCounterpart)))
       refuse("entry " + std::to_string(i) + " is " + std::to_string(map[i]) + ", outside the other mesh's " +
              std::to_string(other_vertices) + " vertices");
+}
+
+// One point per vertex, each a face index or -1 with finite weights.
+void check_points(const char* what, const PreciseMap& points, int64_t vertices) {
+  std::string problem;
+  if (static_cast<int64_t>(points.size()) != vertices)
+    problem = std::to_string(points.size()) + " points for " + std::to_string(vertices) + " vertices";
+  for (size_t i = 0; problem.empty() && i < points.size(); ++i)
+    if (points[i].face < -1 || !std::isfinite(points[i].weights[0] + points[i].weights[1] + points[i].weights[2]))
+      problem = "point " + std::to_string(i) + " is no point of a face";
+  if (!problem.empty())
+    throw RpcError("download", grpc::Status(grpc::StatusCode::DATA_LOSS, std::string("the server sent a corrupted ") +
+                                                                             what + " map (" + problem + "); nothing written"));
 }
 
 }  // namespace
@@ -58,6 +81,8 @@ MatchOutput download_result(Connection& connection, const std::string& job_name,
       case ResultPart::kForwardConfidence: append_chunk(result.forward_confidence, chunk, chunk.values()); break;
       case ResultPart::kReverseConfidence: append_chunk(result.reverse_confidence, chunk, chunk.values()); break;
       case ResultPart::kReport: append_chunk(report, chunk, chunk.data()); break;
+      case ResultPart::kForwardPrecise: append_points(result.forward_precise, chunk); break;
+      case ResultPart::kReversePrecise: append_points(result.reverse_precise, chunk); break;
     }
   }
   check_rpc(reader->Finish(), *context, "cannot download the result of " + job_name);
@@ -73,6 +98,10 @@ MatchOutput download_result(Connection& connection, const std::string& job_name,
   auto asked = [&](ResultPart part) { return all || std::find(parts.begin(), parts.end(), part) != parts.end(); };
   if (asked(ResultPart::kForwardMap)) check_map("forward", result.forward, sources, targets, false);
   if (asked(ResultPart::kReverseMap)) check_map("reverse", result.reverse, targets, sources, true);
+  if (asked(ResultPart::kForwardPrecise) && !result.forward_precise.empty())
+    check_points("forward precise", result.forward_precise, sources);
+  if (asked(ResultPart::kReversePrecise) && !result.reverse_precise.empty())
+    check_points("reverse precise", result.reverse_precise, targets);
   return result;
 }
 

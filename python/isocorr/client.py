@@ -46,7 +46,9 @@ class RemoteError(RuntimeError):
 
 class RemoteResult:
     """A finished job's result: forward, reverse (int32), confidence, reverse_confidence
-    (float32), report (dict), and the job's name and summary."""
+    (float32), precise and reverse_precise ((faces, weights) as isocorr.precise_map gives
+    them; None for a result stored before precise maps), report (dict), and the job's name
+    and summary."""
 
     def __init__(self, job, summary, parts):
         self.job, self.summary = job, summary
@@ -54,6 +56,8 @@ class RemoteResult:
         self.reverse = parts.get(pb.REVERSE_MAP)
         self.confidence = parts.get(pb.FORWARD_CONFIDENCE)
         self.reverse_confidence = parts.get(pb.REVERSE_CONFIDENCE)
+        self.precise = parts.get(pb.FORWARD_PRECISE)
+        self.reverse_precise = parts.get(pb.REVERSE_PRECISE)
         report = parts.get(pb.REPORT_JSON)
         self.report = json.loads(report) if report is not None else None
 
@@ -169,6 +173,11 @@ class Client:
             elif chunk.part in (pb.FORWARD_CONFIDENCE, pb.REVERSE_CONFIDENCE):
                 array = parts.setdefault(chunk.part, np.empty(chunk.total, dtype=np.float32))
                 array[chunk.offset:chunk.offset + len(chunk.values)] = chunk.values
+            elif chunk.part in (pb.FORWARD_PRECISE, pb.REVERSE_PRECISE):
+                faces, weights = parts.setdefault(
+                    chunk.part, (np.empty(chunk.total, dtype=np.int32), np.empty((chunk.total, 3), dtype=np.float32)))
+                faces[chunk.offset:chunk.offset + len(chunk.indices)] = chunk.indices
+                weights[chunk.offset:chunk.offset + len(chunk.indices)] = np.reshape(chunk.values, (-1, 3))
             else:
                 report.append(chunk.data)
         if report:

@@ -82,6 +82,18 @@ py::array_t<float> float_array(const std::vector<float>& values) {
   return array;
 }
 
+py::tuple precise_arrays(const PreciseMap& points) {
+  py::array_t<int32_t> faces(static_cast<py::ssize_t>(points.size()));
+  py::array_t<float> weights({static_cast<py::ssize_t>(points.size()), py::ssize_t{3}});
+  auto f = faces.mutable_unchecked<1>();
+  auto w = weights.mutable_unchecked<2>();
+  for (size_t v = 0; v < points.size(); ++v) {
+    f(v) = points[v].face;
+    for (int j = 0; j < 3; ++j) w(v, j) = points[v].weights[j];
+  }
+  return py::make_tuple(faces, weights);
+}
+
 void register_mesh_functions(py::module_& module) {
   module.def(
       "read_mesh", [](const std::string& path) { return arrays_from_mesh(load_mesh(path).mesh); }, py::arg("path"),

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "isocorr/mesh/triangle_mesh.h"
+#include "isocorr/transfer/surface_point.h"
 
 namespace isocorr::python {
 
@@ -29,6 +30,9 @@ std::vector<int> index_vector(const IndexArray& array, const std::string& name);
 // A 1-D int32 or float32 array holding a copy of `values`.
 py::array_t<int32_t> int_array(const std::vector<int>& values);
 py::array_t<float> float_array(const std::vector<float>& values);
+
+// (faces, weights): int32 (n,) and float32 (n, 3) copies of a precise map's points.
+py::tuple precise_arrays(const PreciseMap& points);
 
 // read_mesh and write_mesh.
 void register_mesh_functions(py::module_& module);

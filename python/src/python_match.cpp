@@ -199,6 +199,13 @@ void register_match_class(py::module_& module) {
                              "int32 (n_source,): the target vertex of each source vertex")
       .def_property_readonly("reverse", [](const Match& m) { return int_array(m.result.output.reverse); },
                              "int32 (n_target,): the source vertex of each target vertex (-1: none, for a part)")
+      .def_property_readonly(
+          "precise", [](const Match& m) { return precise_arrays(m.result.output.forward_precise); },
+          "(faces, weights): each source vertex's point on the target, int32 faces (n_source,) of the target "
+          "as given and float32 (n_source, 3) weights of their corners (isocorr.precise_map)")
+      .def_property_readonly(
+          "reverse_precise", [](const Match& m) { return precise_arrays(m.result.output.reverse_precise); },
+          "(faces, weights): the same for each target vertex on the source (face -1: none, for a part)")
       .def_property_readonly("confidence",
                              [](const Match& m) { return float_array(m.result.output.forward_confidence); },
                              "float32 (n_source,): each forward pair's residual, lower is better")

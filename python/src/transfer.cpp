@@ -48,15 +48,7 @@ py::tuple precise_map_py(const py::object& source, const py::object& target, con
     py::gil_scoped_release released;
     points = precise_map(source_mesh, target_mesh, map, threads);
   }
-  py::array_t<int32_t> faces(static_cast<py::ssize_t>(points.size()));
-  py::array_t<float> weights({static_cast<py::ssize_t>(points.size()), py::ssize_t{3}});
-  auto f = faces.mutable_unchecked<1>();
-  auto w = weights.mutable_unchecked<2>();
-  for (size_t v = 0; v < points.size(); ++v) {
-    f(v) = points[v].face;
-    for (int j = 0; j < 3; ++j) w(v, j) = points[v].weights[j];
-  }
-  return py::make_tuple(faces, weights);
+  return precise_arrays(points);
 }
 
 py::array transfer_py(const ValueArray& values, const py::object& map, const py::object& target_faces, bool labels) {

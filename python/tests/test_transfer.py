@@ -30,6 +30,20 @@ def test_a_precise_map_of_the_true_map_lands_on_the_true_vertices(examples):
         isocorr.precise_map((Vs, Fs), (Vt, Ft), np.full(len(Vs), len(Vt)))
 
 
+def test_a_match_carries_its_precise_maps(examples):
+    (Vs, Fs), (Vt, Ft) = pair(examples)
+    m = isocorr.match((Vs, Fs), (Vt, Ft))
+    faces, weights = m.precise
+    assert faces.shape == (len(Vs),) and weights.shape == (len(Vs), 3)
+    # The engine's precise map (on the cleaned meshes) lands where the function's does.
+    f2, w2 = isocorr.precise_map((Vs, Fs), (Vt, Ft), m.forward)
+    here = (Vt[Ft[faces]] * weights[:, :, None]).sum(axis=1)
+    there = (Vt[Ft[f2]] * w2[:, :, None]).sum(axis=1)
+    assert np.abs(here - there).max() < 1e-4 * np.ptp(Vt)
+    reverse_faces, _ = m.reverse_precise
+    assert reverse_faces.shape == (len(Vt),) and reverse_faces.min() >= 0
+
+
 def test_transfer_copies_interpolates_and_keeps_labels_whole(examples):
     (Vs, Fs), (Vt, Ft) = pair(examples)
     truth = true_map(examples)

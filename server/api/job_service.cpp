@@ -186,10 +186,16 @@ grpc::Status JobServiceImpl::DownloadResult(grpc::ServerContext* context, const 
       if (!part) throw field_error("parts", "UNKNOWN_RESULT_PART", "unknown result part " + std::to_string(value));
       parts.push_back(*part);
     }
-    if (parts.empty()) parts.assign(kAllResultParts.begin(), kAllResultParts.end());
+    // All parts: those the result has (one stored before precise maps lacks them).
+    const bool all_parts = parts.empty();
+    if (all_parts) parts.assign(kAllResultParts.begin(), kAllResultParts.end());
     const ResultReader& results = jobs_.results();
     auto add_index = [](v1::ResultChunk& chunk, int value) { chunk.add_indices(value); };
     auto add_value = [](v1::ResultChunk& chunk, float value) { chunk.add_values(value); };
+    auto add_point = [](v1::ResultChunk& chunk, const SurfacePoint& point) {
+      chunk.add_indices(point.face);
+      for (const float weight : point.weights) chunk.add_values(weight);
+    };
     for (const ResultPart part : parts) {
       const v1::ResultPart proto_part = api::result_part_to_proto(part);
       bool written = true;
@@ -202,6 +208,18 @@ grpc::Status JobServiceImpl::DownloadResult(grpc::ServerContext* context, const 
         case ResultPart::kReverseConfidence:
           written = stream_elements(*writer, proto_part, results.read_confidence(job, part), add_value);
           break;
+        case ResultPart::kForwardPrecise:
+        case ResultPart::kReversePrecise: {
+          PreciseMap points;
+          try {
+            points = results.read_precise(job, part);
+          } catch (const PartNotStored&) {
+            if (all_parts) continue;
+            throw;
+          }
+          written = stream_elements(*writer, proto_part, points, add_point);
+          break;
+        }
         case ResultPart::kReport: {
           const std::string report = results.read_report(job);
           for (size_t offset = 0; written && (offset < report.size() || offset == 0);

@@ -273,11 +273,13 @@ std::string PgJobStore::read_checked_part(const JobRecord& job, ResultPart part)
   });
   if (rows.empty()) result_lost(id, "no result stored");
   if (!rows[0]["set_aside"].is_null()) result_lost(id, rows[0]["set_aside"].as<std::string>());
-  if (rows[0]["bytes"].is_null()) result_lost(id, name + " is missing");
-  const std::string bytes = pqxx::binarystring(rows[0]["bytes"]).str();
+  std::string bytes;
   try {
     const json manifest = unseal_json(rows[0]["manifest"].as<std::string>());
     std::string problem = result_binding_problem(manifest, job);
+    if (problem.empty() && !manifest_holds(manifest, part)) throw PartNotStored(id, part);
+    if (problem.empty() && rows[0]["bytes"].is_null()) problem = name + " is missing";
+    if (problem.empty()) bytes = pqxx::binarystring(rows[0]["bytes"]).str();
     if (problem.empty()) problem = result_part_problem(manifest, part, bytes);
     if (!problem.empty()) result_lost(id, problem);
   } catch (const ServiceError&) {

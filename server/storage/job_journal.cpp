@@ -22,9 +22,10 @@ namespace {
 
 // A result part's file under results/<id>/.
 std::string part_file(ResultPart part) {
-  const char* extension = part == ResultPart::kReport                                              ? ".json"
-                          : part == ResultPart::kForwardMap || part == ResultPart::kReverseMap ? ".i32"
-                                                                                                 : ".f32";
+  const char* extension = part == ResultPart::kReport                                                ? ".json"
+                          : part == ResultPart::kForwardMap || part == ResultPart::kReverseMap     ? ".i32"
+                          : part == ResultPart::kForwardPrecise || part == ResultPart::kReversePrecise ? ".points"
+                                                                                                   : ".f32";
   return std::string(result_part_name(part)) + extension;
 }
 
@@ -81,7 +82,7 @@ void JobJournal::adopt_legacy_results() {
         continue;
       }
       std::map<ResultPart, std::string> bytes;
-      for (const ResultPart part : kAllResultParts) bytes[part] = read_whole_file(dir / part_file(part));
+      for (const ResultPart part : kFirstResultParts) bytes[part] = read_whole_file(dir / part_file(part));
       write_file_durably(dir / kManifestFile, seal_json(manifest_of_unchecked_parts(job, bytes)));
       spdlog::info("[job {}] result stored before manifests existed: structure checked, manifest written", id);
     } catch (const ServiceError&) {
@@ -204,6 +205,7 @@ std::string JobJournal::read_checked_part(const JobRecord& job, ResultPart part)
   } catch (const json::exception& e) {
     result_lost(id, std::string("unreadable manifest: ") + e.what());
   }
+  if (!manifest_holds(manifest, part)) throw PartNotStored(id, part);
   const std::string name(result_part_name(part));
   std::string bytes;
   try {

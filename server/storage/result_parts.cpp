@@ -53,6 +53,10 @@ EncodedResult encode_result(const JobRecord& job, const MatchOutput& result) {
   encoded.parts[ResultPart::kForwardConfidence] = to_bytes(result.forward_confidence);
   encoded.parts[ResultPart::kReverseConfidence] = to_bytes(result.reverse_confidence);
   encoded.parts[ResultPart::kReport] = result.report_json;
+  static_assert(sizeof(SurfacePoint) == 16, "a stored point is an int32 face and three float32 weights");
+  // A result without precise maps is stored as those from before them were.
+  if (!result.forward_precise.empty()) encoded.parts[ResultPart::kForwardPrecise] = to_bytes(result.forward_precise);
+  if (!result.reverse_precise.empty()) encoded.parts[ResultPart::kReversePrecise] = to_bytes(result.reverse_precise);
   encoded.manifest = manifest_of(encoded.parts, result.forward.size(), result.reverse.size());
   bind_manifest(encoded.manifest, job);
   return encoded;
@@ -77,6 +81,14 @@ json manifest_of_unchecked_parts(const JobRecord& job, const std::map<ResultPart
   return manifest;
 }
 
+bool manifest_holds(const json& manifest, ResultPart part) {
+  return manifest.contains("parts") && manifest.at("parts").contains(std::string(result_part_name(part)));
+}
+
+PartNotStored::PartNotStored(const std::string& job_id, ResultPart part)
+    : ServiceError(Kind::kNotFound, "the result of jobs/" + job_id + " was stored before it had the part " +
+                                        std::string(result_part_name(part)) + "; run the job again to get it") {}
+
 std::string result_part_problem(const json& manifest, ResultPart part, const std::string& bytes) {
   const std::string name(result_part_name(part));
   const json& expected = manifest.at("parts").at(name);
@@ -96,6 +108,11 @@ std::string result_part_problem(const json& manifest, ResultPart part, const std
       if (index >= limit || (index < 0 && (forward || index != kNoCounterpart)))
         return name + " holds index " + std::to_string(index) + ", outside the other mesh's " +
                std::to_string(limit) + " vertices";
+  }
+  if (part == ResultPart::kForwardPrecise || part == ResultPart::kReversePrecise) {
+    const auto count = manifest.at(part == ResultPart::kForwardPrecise ? "source_vertices" : "target_vertices").get<size_t>();
+    if (bytes.size() != count * sizeof(SurfacePoint))
+      return name + " has " + std::to_string(bytes.size()) + " bytes for " + std::to_string(count) + " vertices";
   }
   return "";
 }

@@ -1,5 +1,6 @@
 // A finished job's result as any store keeps it: one byte string per part (little-endian
-// int32 maps, float32 confidence, the JSON report) and a manifest of each part's length
+// int32 maps, float32 confidence, the JSON report, precise maps as an int32 face and three
+// float32 weights per point) and a manifest of each part's length
 // and SHA-256 with both meshes' vertex counts, so that every read can be checked. The
 // manifest also names the job it was made for (its id, both meshes' digests and the
 // settings' digest), so that a result moved to another job's place is not served there.
@@ -13,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "isocorr/output/match_output.h"
+#include "service_error.h"
 #include "storage/job_record.h"
 
 namespace isocorr::server {
@@ -39,6 +41,17 @@ std::string result_binding_problem(const nlohmann::json& manifest, const JobReco
 // nlohmann::json::exception for a manifest that lacks what it needs.
 std::string result_part_problem(const nlohmann::json& manifest, ResultPart part, const std::string& bytes);
 
+// Whether the result `manifest` describes has `part`: results stored before precise maps
+// lack them.
+bool manifest_holds(const nlohmann::json& manifest, ResultPart part);
+
+// A part the job's result does not have (it was stored before the part existed): NOT_FOUND,
+// and the result is left as it is.
+class PartNotStored : public ServiceError {
+ public:
+  PartNotStored(const std::string& job_id, ResultPart part);
+};
+
 template <typename T>
 std::vector<T> values_from_bytes(const std::string& bytes) {  // little-endian hosts only (x86-64, arm64)
   std::vector<T> values(bytes.size() / sizeof(T));
@@ -59,6 +72,9 @@ class ResultReader {
     return values_from_bytes<float>(read_checked_part(job, part));
   }
   std::string read_report(const JobRecord& job) const { return read_checked_part(job, ResultPart::kReport); }
+  PreciseMap read_precise(const JobRecord& job, ResultPart part) const {  // k*Precise
+    return values_from_bytes<SurfacePoint>(read_checked_part(job, part));
+  }
 
  protected:
   // The part's bytes after the checks of result_binding_problem and result_part_problem.

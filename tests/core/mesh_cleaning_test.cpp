@@ -125,6 +125,29 @@ TEST(MeshCleaning, DropsDegenerateAndDuplicateFaces) {
   EXPECT_TRUE(clean.input_to_clean[4] == 0 || clean.input_to_clean[4] == 1);
 }
 
+// Every clean face names an input face with the same corners, corner by corner, through
+// welds, dropped faces and re-oriented ones.
+TEST(MeshCleaning, EveryFaceKnowsItsInputFace) {
+  TriangleMesh input = tetrahedron();
+  input.vertices.push_back(input.vertices[2]);  // a duplicate of vertex 2, used by face 3
+  for (int& v : input.faces[3]) v = v == 2 ? 4 : v;
+  std::swap(input.faces[1][1], input.faces[1][2]);  // one face turned against its neighbours
+  input.faces.push_back({2, 2, 3});                 // degenerate, dropped
+  const CleanMesh clean = clean_mesh(input);
+  ASSERT_EQ(clean.clean_face_origins.size(), clean.mesh.faces.size());
+  std::vector<bool> used(input.faces.size(), false);
+  for (size_t f = 0; f < clean.mesh.faces.size(); ++f) {
+    const CleanMesh::InputFace& origin = clean.clean_face_origins[f];
+    ASSERT_GE(origin.face, 0);
+    EXPECT_FALSE(used[origin.face]);
+    used[origin.face] = true;
+    for (int k = 0; k < 3; ++k)
+      EXPECT_EQ(clean.mesh.faces[f][origin.clean_corner[k]], clean.input_to_clean[input.faces[origin.face][k]])
+          << "face " << f << " corner " << k;
+  }
+  EXPECT_FALSE(used[4]);
+}
+
 TEST(MeshCleaning, KeepsLargestComponentAndMapsTheRest) {
   TriangleMesh input = tetrahedron(Vec3(10, 0, 0), 0.5);  // small one first, far away
   const TriangleMesh big = tetrahedron(Vec3::Zero(), 2.0);

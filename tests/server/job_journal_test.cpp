@@ -19,12 +19,17 @@ class JobJournalTest : public DataDirTest {
   JobJournalTest() : DataDirTest("isocorr_journal_test_") {}
 };
 
-TEST_F(JobJournalTest, RecordsAndResultsSurviveReopening) {
+JobRecord succeeded_job(const std::string& id) {
   JobRecord job;
-  job.id = "0123456789abcdef";
+  job.id = id;
   job.state = JobState::kSucceeded;
   job.source_digest = std::string(64, 'a');
   job.target_digest = std::string(64, 'b');
+  return job;
+}
+
+TEST_F(JobJournalTest, RecordsAndResultsSurviveReopening) {
+  JobRecord job = succeeded_job("0123456789abcdef");
   job.settings.max_tracked = 17;
   job.settings.selection = SelectionRule::kLeastDistortion;
   job.settings.preprocess.level0_radius = 0.25;
@@ -37,6 +42,8 @@ TEST_F(JobJournalTest, RecordsAndResultsSurviveReopening) {
   result.forward_confidence = {0.5f, 0.25f, 0.125f};
   result.reverse_confidence = {0.f, 1.f, 2.f};
   result.report_json = "{\"final\":{}}";
+  result.forward_precise = {{4, {0.5f, 0.25f, 0.25f}}, {0, {1, 0, 0}}, {7, {0, 0, 1}}};
+  result.reverse_precise = {{1, {0, 1, 0}}, {-1, {1, 0, 0}}, {2, {0.125f, 0.875f, 0}}};
   {
     JobJournal journal(dir_);
     journal.save_result(job, result);
@@ -67,6 +74,34 @@ TEST_F(JobJournalTest, RecordsAndResultsSurviveReopening) {
   EXPECT_EQ(reopened.read_confidence(job, ResultPart::kForwardConfidence), result.forward_confidence);
   EXPECT_EQ(reopened.read_confidence(job, ResultPart::kReverseConfidence), result.reverse_confidence);
   EXPECT_EQ(reopened.read_report(job), result.report_json);
+  const PreciseMap precise = reopened.read_precise(job, ResultPart::kForwardPrecise);
+  ASSERT_EQ(precise.size(), 3u);
+  EXPECT_EQ(precise[0].face, 4);
+  EXPECT_EQ(precise[0].weights, result.forward_precise[0].weights);
+  EXPECT_EQ(reopened.read_precise(job, ResultPart::kReversePrecise)[1].face, -1);
+}
+
+// A result stored before precise maps has no such parts: asking for one is NOT_FOUND and
+// leaves the result whole.
+TEST_F(JobJournalTest, AResultWithoutPreciseMapsKeepsItsOtherParts) {
+  const JobRecord job = succeeded_job("00000000000000aa");
+  MatchOutput result;
+  result.forward = {1, 0};
+  result.reverse = {1, 0};
+  result.forward_confidence = {0.f, 0.f};
+  result.reverse_confidence = {0.f, 0.f};
+  result.report_json = "{}";
+  JobJournal journal(dir_);
+  journal.save_result(job, result);
+  journal.save(job);
+  try {
+    journal.read_precise(job, ResultPart::kForwardPrecise);
+    ADD_FAILURE() << "read a part that was never stored";
+  } catch (const ServiceError& e) {
+    EXPECT_EQ(e.kind(), ServiceError::Kind::kNotFound);
+    EXPECT_NE(std::string(e.what()).find("forward_precise"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(journal.read_map(job, ResultPart::kForwardMap), result.forward);
 }
 
 }  // namespace

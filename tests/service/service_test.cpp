@@ -165,9 +165,23 @@ TEST_F(Service, SubmitWatchWaitDownload) {
   EXPECT_EQ(last_json(wait)["state"], "SUCCEEDED");
 
   const fs::path map = data_dir() / "d.map", confidence = data_dir() / "d.conf", report = data_dir() / "d.json";
+  const fs::path precise = data_dir() / "d.precise";
   const CommandRun download = server.client("download " + job + " -o " + map.string() + " --confidence-out " +
-                                            confidence.string() + " --report " + report.string());
+                                            confidence.string() + " --report " + report.string() + " --precise-out " +
+                                            precise.string());
   ASSERT_EQ(download.exit_code, 0) << download.err;
+  // The precise map the server stored is the one the engine gives in-process.
+  const fs::path local_map = data_dir() / "local.map", local_precise = data_dir() / "local.precise";
+  const CommandRun local = run_command(std::string(ISOCORR_CLI_PATH) + " match " + path("creature.ply").string() + " " +
+                                       path("creature_moved.ply").string() + " -o " + local_map.string() +
+                                       " --precise-out " + local_precise.string());
+  ASSERT_EQ(local.exit_code, 0) << local.err;
+  auto bytes_of = [](const fs::path& file) {
+    return std::string(std::istreambuf_iterator<char>(std::ifstream(file).rdbuf()), {});
+  };
+  const std::string downloaded = bytes_of(precise);
+  EXPECT_EQ(downloaded, bytes_of(local_precise));
+  EXPECT_EQ(std::count(downloaded.begin(), downloaded.end(), '\n'), static_cast<long>(truth_->size()));
   EXPECT_EQ(read_ints(map).size(), truth_->size());
   std::ifstream conf(confidence);
   size_t lines = 0;

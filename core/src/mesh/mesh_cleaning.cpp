@@ -381,6 +381,37 @@ int orient_outward(std::vector<Face>& faces, const Patches& patches, const std::
   return static_cast<int>(std::count_if(volume.begin(), volume.end(), [&](double v) { return v < -negligible; }));
 }
 
+// For every kept face (welded numbering), the first input face with the same corners once
+// welded, and where its corners are among the kept face's. Input faces are ordered by their
+// welded, sorted triples (four bytes a face, triples made again where compared) and each
+// kept face is looked up there.
+std::vector<CleanMesh::InputFace> input_faces_of(const std::vector<Face>& input, const std::vector<int>& rep,
+                                                 const std::vector<Face>& kept) {
+  auto welded_triple = [&](const Face& f) {
+    Face corners = {rep[f[0]], rep[f[1]], rep[f[2]]};
+    std::sort(corners.begin(), corners.end());
+    return corners;
+  };
+  std::vector<int> order(input.size());
+  for (size_t f = 0; f < order.size(); ++f) order[f] = static_cast<int>(f);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return std::pair(welded_triple(input[a]), a) < std::pair(welded_triple(input[b]), b);
+  });
+  std::vector<CleanMesh::InputFace> origins(kept.size());
+  for (size_t f = 0; f < kept.size(); ++f) {
+    Face corners = kept[f];
+    std::sort(corners.begin(), corners.end());
+    const auto found = std::lower_bound(order.begin(), order.end(), corners,
+                                        [&](int g, const Face& key) { return welded_triple(input[g]) < key; });
+    if (found == order.end() || welded_triple(input[*found]) != corners) continue;
+    origins[f].face = *found;
+    for (int k = 0; k < 3; ++k)
+      origins[f].clean_corner[k] = static_cast<unsigned char>(
+          std::find(kept[f].begin(), kept[f].end(), rep[input[*found][k]]) - kept[f].begin());
+  }
+  return origins;
+}
+
 }  // namespace
 
 CleanMesh clean_mesh(const TriangleMesh& input, const CleaningOptions& options) {
@@ -447,6 +478,7 @@ CleanMesh clean_mesh(const TriangleMesh& input, const CleaningOptions& options) 
     }
   result.mesh.faces.reserve(faces.size());
   for (const Face& f : faces) result.mesh.faces.push_back({clean_index[f[0]], clean_index[f[1]], clean_index[f[2]]});
+  result.clean_face_origins = input_faces_of(input.faces, rep, faces);
 
   std::optional<KdTree> kept_tree;  // built only when some vertex was dropped
   result.input_to_clean.resize(num_input);

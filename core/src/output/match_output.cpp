@@ -9,6 +9,8 @@ std::string_view result_part_name(ResultPart part) {
     case ResultPart::kForwardConfidence: return "forward_confidence";
     case ResultPart::kReverseConfidence: return "reverse_confidence";
     case ResultPart::kReport: return "report";
+    case ResultPart::kForwardPrecise: return "forward_precise";
+    case ResultPart::kReversePrecise: return "reverse_precise";
   }
   return "unknown";
 }

@@ -8,6 +8,8 @@
 #include "isocorr/mesh/coordinate_normalisation.h"
 #include "isocorr/partial/part_matching.h"
 #include "isocorr/partial/part_or_whole.h"
+#include "isocorr/transfer/precise_map.h"
+#include "isocorr/util/stage_clock.h"
 
 namespace isocorr {
 
@@ -73,6 +75,10 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
   const CleanMesh& sc = source.clean();
   const CleanMesh& tc = target.clean();
   to_file_numbering(dense, sc, tc, result);
+  StageClock clock(result.timings.stages);
+  result.output.forward_precise = precise_map_in_files(sc, tc, dense.forward, control.threads);
+  result.output.reverse_precise = precise_map_in_files(tc, sc, dense.reverse, control.threads);
+  clock.finish("precise_maps");
   measure_quality(source, target, dense, result);
   if (settings.method != MatchMethod::kFull) {
     result.quality.target_matched_share = matched_area_share(vertex_areas(target.mesh()), dense.reverse);

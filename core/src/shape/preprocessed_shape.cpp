@@ -162,7 +162,7 @@ size_t PreprocessedShape::memory_bytes() const {
   const size_t floats = fields_.size() + sample_fields_.size() + spectral_basis_.size() + smoothed_curvature_.size() +
                         smoothed_gaussian_curvature_.size();
   return floats * sizeof(float) + spectral_samples_.size() * sizeof(int) + n * (sizeof(Vec3) * 2 + sizeof(float) + 3 * sizeof(int)) +
-         mesh().faces.size() * sizeof(Face) * 3;
+         mesh().faces.size() * (sizeof(Face) * 3 + sizeof(CleanMesh::InputFace));
 }
 
 }  // namespace isocorr

@@ -155,6 +155,20 @@ PreciseMap precise_map(const TriangleMesh& source, const TriangleMesh& target, c
   return points;
 }
 
+PreciseMap precise_map_in_files(const CleanMesh& source, const CleanMesh& target, const std::vector<int>& clean_map,
+                                int threads) {
+  const PreciseMap clean = precise_map(source.mesh, target.mesh, clean_map, threads);
+  PreciseMap in_files(source.input_to_clean.size());
+  for (size_t v = 0; v < in_files.size(); ++v) {
+    const SurfacePoint& point = clean[source.input_to_clean[v]];
+    if (point.face < 0) continue;
+    const CleanMesh::InputFace& origin = target.clean_face_origins[point.face];
+    in_files[v].face = origin.face;
+    for (int k = 0; k < 3; ++k) in_files[v].weights[k] = point.weights[origin.clean_corner[k]];
+  }
+  return in_files;
+}
+
 Vec3 surface_position(const TriangleMesh& mesh, const SurfacePoint& point) {
   const Face& face = mesh.faces.at(point.face);
   return point.weights[0] * mesh.vertices[face[0]] + point.weights[1] * mesh.vertices[face[1]] +

@@ -1,6 +1,7 @@
 // Turns a loaded mesh into one the engine can trust, without ever renumbering the output.
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,14 @@ struct CleanMesh {
   CoordinateNormalisation normalisation;  // from the input's coordinates to the mesh's
   std::vector<int> input_to_clean;    // for every input vertex, its vertex in `mesh`
   std::vector<int> clean_to_input;    // for every vertex of `mesh`, one input vertex
+  // For every face of `mesh`, an input face with the same corners once welded, and which
+  // of the clean face's corners each of the input face's corners is (cleaning may turn a
+  // face): points on the clean mesh go back to the file's faces.
+  struct InputFace {
+    int face = -1;
+    std::array<unsigned char, 3> clean_corner{0, 1, 2};
+  };
+  std::vector<InputFace> clean_face_origins;
   std::vector<std::string> repairs;   // each repair done, in words, for the report
 };
 

@@ -15,19 +15,11 @@
 #include <array>
 #include <vector>
 
+#include "isocorr/mesh/mesh_cleaning.h"
 #include "isocorr/mesh/triangle_mesh.h"
+#include "isocorr/transfer/surface_point.h"
 
 namespace isocorr {
-
-// A point on a triangle mesh: face `face` (an index into the mesh's faces, as read) and
-// the weights of its three corners in the face's order (non-negative, summing to 1).
-// face = -1: no point (a vertex that the map leaves unmatched).
-struct SurfacePoint {
-  int face = -1;
-  std::array<float, 3> weights{1, 0, 0};
-};
-
-using PreciseMap = std::vector<SurfacePoint>;
 
 inline constexpr int kMinDistinctImages = 6;
 
@@ -38,6 +30,12 @@ inline constexpr int kMinDistinctImages = 6;
 // not depend on it.
 PreciseMap precise_map(const TriangleMesh& source, const TriangleMesh& target, const std::vector<int>& map,
                        int threads = 1);
+
+// The same for a vertex map between two cleaned meshes (`clean_map` in their numbering),
+// given in the files' terms: a point for every input vertex of `source`, on an input face
+// of `target` (a vertex merged away by cleaning takes the point of the vertex it became).
+PreciseMap precise_map_in_files(const CleanMesh& source, const CleanMesh& target, const std::vector<int>& clean_map,
+                                int threads = 1);
 
 // The position of a surface point.
 Vec3 surface_position(const TriangleMesh& mesh, const SurfacePoint& point);
