@@ -40,6 +40,8 @@ class MeshBuilder {
   // memory the triangles fill is touched, so an unused reservation costs nothing.
   void reserve_for_text(size_t bytes) { mesh_.faces.reserve(bytes / 2 + 1); }
   long long vertex_count() const { return static_cast<long long>(mesh_.vertices.size()); }
+  // Triangles kept so far: a reader that records per-face data watches it grow.
+  size_t face_count() const { return mesh_.faces.size(); }
 
   void add_vertex(double x, double y, double z, Place place) {
     if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))

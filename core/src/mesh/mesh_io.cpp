@@ -45,21 +45,23 @@ Format detect_format(string_view bytes, string_view name_hint) {
 
 }  // namespace
 
-LoadedMesh parse_mesh(const std::string& bytes, const std::string& name_hint) {
+namespace mesh_formats {
+
+LoadedMesh parse_mesh_bytes(const std::string& bytes, const std::string& name_hint, CornerAttributes* corners) {
   string_view content = bytes;
   if (content.substr(0, 3) == "\xEF\xBB\xBF") content.remove_prefix(3);  // UTF-8 byte-order mark
   if (std::all_of(content.begin(), content.end(), is_space)) throw InputError("the mesh file is empty");
   switch (detect_format(content, name_hint)) {
-    case Format::Off: return mesh_formats::parse_off(content);
-    case Format::Obj: return mesh_formats::parse_obj(content);
-    case Format::Ply: return mesh_formats::parse_ply(content);
+    case Format::Off: return parse_off(content);
+    case Format::Obj: return parse_obj(content, corners);
+    case Format::Ply: return parse_ply(content);
     case Format::Unknown: break;
   }
   throw InputError(cat("cannot tell the mesh format of ", name_hint.empty() ? "the data" : "'" + name_hint + "'",
                        ": expected an OFF, OBJ or PLY file (by content or extension)"));
 }
 
-LoadedMesh load_mesh(const std::string& path) {
+LoadedMesh load_mesh_file(const std::string& path, CornerAttributes* corners) {
   std::error_code error;
   if (std::filesystem::is_directory(path, error))
     throw InputError(cat("cannot read mesh file '", path, "': it is a directory"));
@@ -72,11 +74,26 @@ LoadedMesh load_mesh(const std::string& path) {
   if (in.bad() || static_cast<size_t>(in.gcount()) != contents.size())
     throw InputError(cat("cannot read mesh file '", path, "': read error"));
   try {
-    return parse_mesh(contents, path);
+    return parse_mesh_bytes(contents, path, corners);
   } catch (const InputError& e) {
     throw InputError(cat(path, ": ", e.what()));
   }
 }
+
+void write_text_file(const std::string& path, const std::string& text) {
+  std::ofstream file(path, std::ios::binary | std::ios::trunc);
+  file.write(text.data(), static_cast<std::streamsize>(text.size()));
+  file.close();
+  if (!file) throw InputError(cat("cannot write mesh file '", path, "'"));
+}
+
+}  // namespace mesh_formats
+
+LoadedMesh parse_mesh(const std::string& bytes, const std::string& name_hint) {
+  return mesh_formats::parse_mesh_bytes(bytes, name_hint, nullptr);
+}
+
+LoadedMesh load_mesh(const std::string& path) { return mesh_formats::load_mesh_file(path, nullptr); }
 
 void write_mesh(const std::string& path, const TriangleMesh& mesh) {
   const std::string extension = std::filesystem::path(path).extension().string();
@@ -85,11 +102,7 @@ void write_mesh(const std::string& path, const TriangleMesh& mesh) {
   if (lower == ".ply") return write_ply(path, mesh);
   if (lower != ".off" && lower != ".obj")
     throw InputError(cat("cannot write mesh file '", path, "': its name must end in .off, .obj or .ply"));
-  const std::string text = lower == ".off" ? mesh_formats::off_text(mesh) : mesh_formats::obj_text(mesh);
-  std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  file.write(text.data(), static_cast<std::streamsize>(text.size()));
-  file.close();
-  if (!file) throw InputError(cat("cannot write mesh file '", path, "'"));
+  mesh_formats::write_text_file(path, lower == ".off" ? mesh_formats::off_text(mesh) : mesh_formats::obj_text(mesh));
 }
 
 }  // namespace isocorr
