@@ -84,8 +84,31 @@ Vec3 carried_position(const TriangleMesh& source, const TriangleMesh& target, co
   return position.allFinite() ? position : fallback;
 }
 
-// The point of triangle (a, b, c) nearest p, as barycentric weights (Ericson, Real-Time
-// Collision Detection 5.1.5: the Voronoi regions of corners, edges and face in turn).
+// The point nearest `position` on the triangles around `image` and its neighbours.
+SurfacePoint project_near(const TriangleMesh& target, const MeshTopology& topology, int image, const Vec3& position) {
+  SurfacePoint best;
+  double best_distance = std::numeric_limits<double>::infinity();
+  auto try_faces_of = [&](int w) {
+    for (const int* f = topology.faces_begin(w); f != topology.faces_end(w); ++f) {
+      const Face& face = target.faces[*f];
+      const Vec3 &a = target.vertices[face[0]], &b = target.vertices[face[1]], &c = target.vertices[face[2]];
+      const Eigen::Vector3d weights = nearest_on_triangle(position, a, b, c);
+      const double distance = (weights[0] * a + weights[1] * b + weights[2] * c - position).squaredNorm();
+      if (distance < best_distance) {
+        best_distance = distance;
+        best = {*f, {static_cast<float>(weights[0]), static_cast<float>(weights[1]), static_cast<float>(weights[2])}};
+      }
+    }
+  };
+  try_faces_of(image);
+  for (const int* n = topology.neighbours_begin(image); n != topology.neighbours_end(image); ++n) try_faces_of(*n);
+  return best;
+}
+
+}  // namespace
+
+// Ericson, Real-Time Collision Detection 5.1.5: the Voronoi regions of corners, edges and
+// face in turn.
 Eigen::Vector3d nearest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
   const double d1 = ab.dot(ap), d2 = ac.dot(ap);
@@ -115,29 +138,6 @@ Eigen::Vector3d nearest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b,
   if (!(denominator > 0)) return {1, 0, 0};  // a degenerate triangle: its first corner
   return {va / denominator, vb / denominator, vc / denominator};
 }
-
-// The point nearest `position` on the triangles around `image` and its neighbours.
-SurfacePoint project_near(const TriangleMesh& target, const MeshTopology& topology, int image, const Vec3& position) {
-  SurfacePoint best;
-  double best_distance = std::numeric_limits<double>::infinity();
-  auto try_faces_of = [&](int w) {
-    for (const int* f = topology.faces_begin(w); f != topology.faces_end(w); ++f) {
-      const Face& face = target.faces[*f];
-      const Vec3 &a = target.vertices[face[0]], &b = target.vertices[face[1]], &c = target.vertices[face[2]];
-      const Eigen::Vector3d weights = nearest_on_triangle(position, a, b, c);
-      const double distance = (weights[0] * a + weights[1] * b + weights[2] * c - position).squaredNorm();
-      if (distance < best_distance) {
-        best_distance = distance;
-        best = {*f, {static_cast<float>(weights[0]), static_cast<float>(weights[1]), static_cast<float>(weights[2])}};
-      }
-    }
-  };
-  try_faces_of(image);
-  for (const int* n = topology.neighbours_begin(image); n != topology.neighbours_end(image); ++n) try_faces_of(*n);
-  return best;
-}
-
-}  // namespace
 
 PreciseMap precise_map(const TriangleMesh& source, const TriangleMesh& target, const std::vector<int>& map,
                        int threads) {

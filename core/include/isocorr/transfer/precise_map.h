@@ -37,6 +37,9 @@ PreciseMap precise_map(const TriangleMesh& source, const TriangleMesh& target, c
 PreciseMap precise_map_in_files(const CleanMesh& source, const CleanMesh& target, const std::vector<int>& clean_map,
                                 int threads = 1);
 
+// The point of triangle (a, b, c) nearest p, as barycentric weights of a, b and c.
+Eigen::Vector3d nearest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
 // The position of a surface point.
 Vec3 surface_position(const TriangleMesh& mesh, const SurfacePoint& point);
 
