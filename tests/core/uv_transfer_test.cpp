@@ -86,6 +86,14 @@ TEST(UvTransfer, TheAtlasHasThreeIslands) {
   const std::vector<int> islands = uv_islands(sphere.mesh, sphere.corners);
   EXPECT_EQ(*std::max_element(islands.begin(), islands.end()), 2);
   EXPECT_EQ(islands[0], 0);
+  // Written with one vt per corner, as some exporters do, the islands are the same.
+  CornerAttributes per_corner;
+  for (const auto& corners : sphere.corners.face_uvs) {
+    const int first = static_cast<int>(per_corner.uvs.size());
+    for (int index : corners) per_corner.uvs.push_back(sphere.corners.uvs[index]);
+    per_corner.face_uvs.push_back({first, first + 1, first + 2});
+  }
+  EXPECT_EQ(uv_islands(sphere.mesh, per_corner), islands);
 }
 
 TEST(UvTransfer, ARenumberedRotatedCopyGetsTheTrueUvsAcrossSeams) {

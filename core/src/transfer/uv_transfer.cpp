@@ -3,8 +3,8 @@
 
 #include <algorithm>
 #include <array>
-#include <map>
 #include <limits>
+#include <map>
 #include <string>
 #include <tuple>
 
@@ -102,7 +102,8 @@ class UvTransfer {
       neighbours_[pair.first].push_back({pair.second, pair.joined});
       neighbours_[pair.second].push_back({pair.first, pair.joined});
     }
-    Vec3 low = mesh_.vertices.front(), high = low;
+    Vec3 low = Vec3::Zero(), high = Vec3::Zero();
+    if (!mesh_.vertices.empty()) low = high = mesh_.vertices.front();
     for (const Vec3& p : mesh_.vertices) low = low.cwiseMin(p), high = high.cwiseMax(p);
     // Float weights place a point to about 1e-7 of the mesh's size: a point landed on a
     // shared edge or vertex is this close to both faces.
