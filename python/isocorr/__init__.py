@@ -33,12 +33,12 @@ Settings are keyword arguments named as in isocorr.settings() (the command line'
 with underscores); a bad one raises ValueError naming it.
 """
 
-from ._isocorr import (Match, Shape, __version__, coverage, evaluate, match, precise_map, read_mesh, render_pair,
-                       settings, transfer, write_mesh)
+from ._isocorr import (Match, Shape, __version__, coverage, evaluate, match, precise_map, read_mesh, read_obj,
+                       render_pair, settings, transfer, transfer_uvs, write_mesh, write_obj)
 
 __all__ = [
-    "Match", "Shape", "__version__", "coverage", "evaluate", "match", "precise_map", "read_mesh", "render_pair",
-    "geodesic_error", "settings", "transfer", "write_mesh",
+    "Match", "Shape", "__version__", "coverage", "evaluate", "match", "precise_map", "read_mesh", "read_obj", "render_pair",
+    "geodesic_error", "settings", "transfer", "transfer_uvs", "write_mesh", "write_obj",
 ]
 
 

@@ -7,6 +7,7 @@
 #include "numpy_mesh.h"
 #include "python_match.h"
 #include "settings_kwargs.h"
+#include "texture.h"
 #include "transfer.h"
 
 namespace py = pybind11;
@@ -27,4 +28,5 @@ PYBIND11_MODULE(_isocorr, module) {
   isocorr::python::register_match(module);
   isocorr::python::register_evaluation(module);
   isocorr::python::register_transfer(module);
+  isocorr::python::register_texture(module);
 }

@@ -94,6 +94,18 @@ py::tuple precise_arrays(const PreciseMap& points) {
   return py::make_tuple(faces, weights);
 }
 
+PreciseMap precise_from_arrays(const py::sequence& pair) {
+  if (py::len(pair) != 2) throw py::value_error("a precise map is a (faces, weights) pair of arrays");
+  const std::vector<int> faces = index_vector(pair[0].cast<IndexArray>(), "faces");
+  const py::array_t<float, py::array::c_style | py::array::forcecast> weights = pair[1].cast<py::array_t<float, py::array::c_style | py::array::forcecast>>();
+  if (weights.ndim() != 2 || weights.shape(1) != 3 || static_cast<size_t>(weights.shape(0)) != faces.size())
+    throw py::value_error("the weights of a precise map are a float array of shape (len(faces), 3)");
+  const auto w = weights.unchecked<2>();
+  PreciseMap map(faces.size());
+  for (size_t v = 0; v < faces.size(); ++v) map[v] = {faces[v], {w(v, 0), w(v, 1), w(v, 2)}};
+  return map;
+}
+
 void register_mesh_functions(py::module_& module) {
   module.def(
       "read_mesh", [](const std::string& path) { return arrays_from_mesh(load_mesh(path).mesh); }, py::arg("path"),

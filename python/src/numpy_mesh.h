@@ -34,6 +34,9 @@ py::array_t<float> float_array(const std::vector<float>& values);
 // (faces, weights): int32 (n,) and float32 (n, 3) copies of a precise map's points.
 py::tuple precise_arrays(const PreciseMap& points);
 
+// A precise map from a (faces, weights) pair of arrays; raises ValueError for other shapes.
+PreciseMap precise_from_arrays(const py::sequence& pair);
+
 // read_mesh and write_mesh.
 void register_mesh_functions(py::module_& module);
 

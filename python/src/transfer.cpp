@@ -16,7 +16,6 @@ namespace isocorr::python {
 namespace {
 
 using ValueArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
-using WeightArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
 
 // A (V, F) pair or anything with V and F attributes (an isocorr.Shape).
 TriangleMesh mesh_argument(const py::handle& argument, const char* name) {
@@ -28,17 +27,6 @@ TriangleMesh mesh_argument(const py::handle& argument, const char* name) {
   return mesh_from_arrays(pair[0].cast<VertexArray>(), pair[1].cast<FaceArray>());
 }
 
-PreciseMap precise_of(const py::sequence& pair) {
-  if (py::len(pair) != 2) throw py::value_error("a precise map is a (faces, weights) pair of arrays");
-  const std::vector<int> faces = index_vector(pair[0].cast<IndexArray>(), "faces");
-  const WeightArray weights = pair[1].cast<WeightArray>();
-  if (weights.ndim() != 2 || weights.shape(1) != 3 || static_cast<size_t>(weights.shape(0)) != faces.size())
-    throw py::value_error("the weights of a precise map are a float array of shape (len(faces), 3)");
-  const auto w = weights.unchecked<2>();
-  PreciseMap map(faces.size());
-  for (size_t v = 0; v < faces.size(); ++v) map[v] = {faces[v], {w(v, 0), w(v, 1), w(v, 2)}};
-  return map;
-}
 
 py::tuple precise_map_py(const py::object& source, const py::object& target, const IndexArray& forward, int threads) {
   const TriangleMesh source_mesh = mesh_argument(source, "source"), target_mesh = mesh_argument(target, "target");
@@ -66,7 +54,7 @@ py::array transfer_py(const ValueArray& values, const py::object& map, const py:
     VertexArray positions({static_cast<py::ssize_t>(table.rows), py::ssize_t{3}});
     std::fill(positions.mutable_data(), positions.mutable_data() + positions.size(), 0.0);
     target = mesh_from_arrays(positions, faces);
-    points = precise_of(map.cast<py::sequence>());
+    points = precise_from_arrays(map.cast<py::sequence>());
   } else {
     forward = index_vector(map.cast<IndexArray>(), "map");
   }

@@ -87,3 +87,21 @@ def test_geodesic_error_is_per_point_and_averages_to_d_grd(examples):
     assert np.all(errors[50:-1] == 0) and np.all(errors[:50] > 0)
     score = isocorr.evaluate(Vt, Ft, shifted, unknown, max_points=0)
     assert np.nanmean(errors) == pytest.approx(score["d_grd"])
+
+
+def test_uvs_of_a_textured_target_reach_the_source_corner_by_corner(examples, tmp_path):
+    (Vs, Fs), (Vt, Ft) = pair(examples)
+    truth = true_map(examples)
+    target = {"V": Vt, "F": Ft, "uv": Vt[:, :2].copy(), "face_uv": Ft.copy(), "material_library": "skin.mtl",
+              "materials": ["skin"], "face_materials": np.zeros(len(Ft), dtype=np.int32)}
+    isocorr.write_obj(str(tmp_path / "target.obj"), target)
+    read_back = isocorr.read_obj(str(tmp_path / "target.obj"))
+    assert np.array_equal(read_back["face_uv"], Ft) and read_back["material_library"] == "skin.mtl"
+    source = isocorr.transfer_uvs((Vs, Fs), read_back, truth)
+    uv_of_corners = source["uv"][source["face_uv"]]
+    assert np.abs(uv_of_corners - Vt[truth[Fs], :2]).max() < 1e-6
+    assert source["materials"] == ["skin"]
+    isocorr.write_obj(str(tmp_path / "source.obj"), source)
+    assert np.array_equal(isocorr.read_obj(str(tmp_path / "source.obj"))["F"], Fs)
+    with pytest.raises(ValueError):
+        isocorr.transfer_uvs((Vs, Fs), {"V": Vt, "F": Ft}, truth)  # no UVs

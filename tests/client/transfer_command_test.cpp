@@ -8,6 +8,7 @@
 
 #include "example_dataset.h"
 #include "isocorr/mesh/mesh_io.h"
+#include "isocorr/mesh/textured_mesh.h"
 #include "isocorr/output/attribute_files.h"
 #include "isocorr/output/map_files.h"
 
@@ -87,6 +88,41 @@ TEST_F(TransferCommand, LabelsAndColouredPly) {
                            target_positions_csv() + " -o " + path("coloured.ply"));
   ASSERT_EQ(ply.exit_code, 0) << ply.output;
   EXPECT_EQ(load_mesh(path("coloured.ply")).mesh.num_vertices(), static_cast<int>(truth.size()));
+}
+
+// `mesh` as an OBJ whose UVs are its vertices' x and y, with a material library.
+TexturedMesh textured_target(const std::string& mesh, const std::string& obj) {
+  TexturedMesh textured{load_mesh(mesh).mesh, {}};
+  for (const Vec3& p : textured.mesh.vertices) textured.corners.uvs.push_back({p.x(), p.y()});
+  textured.corners.face_uvs = textured.mesh.faces;
+  textured.corners.material_library = "skin.mtl";
+  textured.corners.materials = {"skin"};
+  textured.corners.face_materials.assign(textured.mesh.faces.size(), 0);
+  write_textured_obj(obj, textured);
+  return textured;
+}
+
+TEST_F(TransferCommand, UvsAndMaterialsOfATexturedTarget) {
+  const std::string obj = path("textured.obj"), out = path("source_textured.obj");
+  const TexturedMesh target = textured_target(path("meshes/creature_moved.ply"), obj);
+  const ShellRun run = cli("transfer " + path("meshes/creature.ply") + " " + obj + " " + path("gt/creature_to_moved.txt") +
+                           " --uv -o " + out);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const TexturedMesh source = load_textured_mesh(out);
+  const std::vector<int> truth = read_map(path("gt/creature_to_moved.txt"));
+  EXPECT_EQ(source.corners.material_library, "skin.mtl");
+  ASSERT_EQ(source.corners.face_uvs.size(), source.mesh.faces.size());
+  for (size_t f = 0; f < source.mesh.faces.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const auto& uv = source.corners.uvs[source.corners.face_uvs[f][k]];
+      const auto& expected = target.corners.uvs[truth[source.mesh.faces[f][k]]];
+      EXPECT_NEAR(uv[0], expected[0], 1e-6);
+      EXPECT_NEAR(uv[1], expected[1], 1e-6);
+    }
+  const ShellRun neither = cli("transfer " + path("meshes/creature.ply") + " " + obj + " " +
+                               path("gt/creature_to_moved.txt") + " -o " + out);
+  EXPECT_EQ(neither.exit_code, 2);
+  EXPECT_NE(neither.output.find("give either --attribute FILE or --uv"), std::string::npos) << neither.output;
 }
 
 TEST_F(TransferCommand, ATableOfTheWrongLengthIsExitCodeTwoNamingTheFile) {
