@@ -6,6 +6,7 @@
 #include <string>
 
 #include "isocorr/settings/match_settings.h"
+#include "landmarks_file.h"
 
 namespace CLI {
 class App;
@@ -30,6 +31,7 @@ struct MatchJobFiles {
   std::string colour_ply;  // prefix of the coloured PLY pair, empty = none
   std::string precise_output, reverse_precise_output;  // precise maps (precise_map.h), empty = none
   MatchSettings settings;
+  LandmarksFile landmarks_file;  // where settings.landmarks came from, for messages
 };
 
 // Runs a match on a server when the user asked for one (`--server`), returning the exit

@@ -57,6 +57,8 @@ int match_locally(const MatchJobFiles& args) {
     // here and again in the match costs 45 ms at 52K vertices (docs/decisions.md).
     check_matchable_file("source", args.source, source, args.settings.preprocess.cleaning);
     check_matchable_file("target", args.target, target, args.settings.preprocess.cleaning);
+    check_landmarks_fit(args.landmarks_file, args.settings.landmarks, source.mesh.num_vertices(),
+                        target.mesh.num_vertices());
     spdlog::info("source {}: {} vertices, {} faces ({})", args.source, source.mesh.num_vertices(),
                  source.mesh.num_faces(), source.format);
     spdlog::info("target {}: {} vertices, {} faces ({})", args.target, target.mesh.num_vertices(),
@@ -125,7 +127,7 @@ void register_match_command(CLI::App& app, int& exit_code, RemoteMatchRunner rem
                   "also write the precise map: per source vertex a target face and its corners' weights "
                   "('face w0 w1 w2' lines; NumPy (N, 4) if .npy)");
   cmd->add_option("--reverse-precise-out", args->reverse_precise_output, "the same for the reverse map");
-  add_match_settings_flags(*cmd, args->settings);
+  add_match_settings_flags(*cmd, args->settings, args->landmarks_file);
   cmd->callback([args, remote, &exit_code] {
     try {
       check_output_directories(*args);

@@ -45,7 +45,7 @@ std::string with_flag_names(std::string text) {
   return text;
 }
 
-void add_match_settings_flags(CLI::App& app, MatchSettings& settings) {
+void add_match_settings_flags(CLI::App& app, MatchSettings& settings, LandmarksFile& landmarks_file) {
   const MatchSettings defaults;
   std::string group = "Matching settings";
   for (const SettingField& field : settings_schema()) {
@@ -77,6 +77,21 @@ void add_match_settings_flags(CLI::App& app, MatchSettings& settings) {
              "where the target has no counterpart")
           ->group(group);
   }
+  // Not a row of the table: a list (settings_schema.cpp).
+  app.add_option_function<std::string>(
+         "--landmarks",
+         [&settings, &landmarks_file](const std::string& path) {
+           try {
+             read_landmarks_file(path, settings.landmarks, landmarks_file);
+           } catch (const InputError& e) {
+             throw CLI::ValidationError("--landmarks", e.what());
+           }
+         },
+         "known correspondences: a file of 'source_vertex target_vertex' lines (0-based, the files' numbering; "
+         "# comments). Level-0 maps and refined candidates that disagree with them are dropped, and the maps send "
+         "each to its partner")
+      ->type_name("FILE")
+      ->group("Matching settings: Landmarks");
 }
 
 }  // namespace isocorr::cli

@@ -303,7 +303,8 @@ int main(int argc, char** argv) {
   app.add_flag("--from-truth", run.from_truth,
                "refine from the ground-truth correspondences instead of the tracked maps (the error the "
                "refinement adds by itself; implies --as-set-only)");
-  isocorr::cli::add_match_settings_flags(app, settings);
+  isocorr::cli::LandmarksFile landmarks_file;
+  isocorr::cli::add_match_settings_flags(app, settings, landmarks_file);
   CLI11_PARSE(app, argc, argv);
   run.as_set_only = run.as_set_only || run.from_truth;
   const char* first_label = run.from_truth ? "from truth" : "as set";

@@ -95,7 +95,8 @@ int main(int argc, char** argv) {
   app.add_flag("--candidates", candidates,
                "also score every dense candidate of the part search against the ground truth (* = chosen)");
   app.add_option("--cuts", cut_names, "run only these cuts (ball70 ball55 plane holes; default all)");
-  isocorr::cli::add_match_settings_flags(app, settings);
+  isocorr::cli::LandmarksFile landmarks_file;
+  isocorr::cli::add_match_settings_flags(app, settings, landmarks_file);
   CLI11_PARSE(app, argc, argv);
   if (datasets.empty()) datasets = {"faust_5k", "scape", "tosca_isometric_5k"};
 

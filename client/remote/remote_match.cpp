@@ -33,6 +33,8 @@ int run_remote_match(const ConnectionOptions& options, const MatchJobFiles& file
     const UploadOutcome target = ensure_uploaded(connection, files.target, "target");
     spdlog::info("source {}: {} ({})", files.source, source.mesh.name(), source.uploaded ? "uploaded" : "already on the server");
     spdlog::info("target {}: {} ({})", files.target, target.mesh.name(), target.uploaded ? "uploaded" : "already on the server");
+    check_landmarks_fit(files.landmarks_file, files.settings.landmarks, source.mesh.vertex_count(),
+                        target.mesh.vertex_count());
 
     v1::CreateMatchJobRequest request;
     request.set_source_mesh(source.mesh.name());

@@ -20,6 +20,7 @@ namespace {
 struct SubmitArguments {
   std::string source, target;
   MatchSettings settings;
+  LandmarksFile landmarks_file;
 };
 
 // A mesh argument: "meshes/{sha256}" as it is, a local file uploaded when the server lacks it.
@@ -49,7 +50,7 @@ void register_submit_command(CLI::App& app, ConnectionOptions& options, int& exi
       });
   cmd->add_option("source", args->source, "source mesh file or meshes/{sha256}")->required();
   cmd->add_option("target", args->target, "target mesh file or meshes/{sha256}")->required();
-  add_match_settings_flags(*cmd, args->settings);
+  add_match_settings_flags(*cmd, args->settings, args->landmarks_file);
 }
 
 }  // namespace isocorr::cli

@@ -44,6 +44,8 @@ MatchSettings settings_from_proto(const v1::MatchSettings& proto) {
       }
     }
   }
+  // Not a row of the table (settings_schema.cpp says why).
+  for (const v1::Landmark& l : proto.landmarks()) settings.landmarks.push_back({l.source_vertex(), l.target_vertex()});
   return settings;
 }
 
@@ -60,6 +62,11 @@ v1::MatchSettings settings_to_proto(const MatchSettings& settings) {
       case SettingType::kBool: reflection->SetBool(&proto, fd, value != 0); break;
       case SettingType::kChoice: reflection->SetEnumValue(&proto, fd, static_cast<int>(value) + 1); break;
     }
+  }
+  for (const Landmark& l : settings.landmarks) {
+    v1::Landmark* entry = proto.add_landmarks();
+    entry->set_source_vertex(l.source_vertex);
+    entry->set_target_vertex(l.target_vertex);
   }
   return proto;
 }

@@ -1,7 +1,8 @@
 // isocorr.v1.MatchSettings <-> isocorr::MatchSettings, shared by the server and the client.
 // Unset proto fields keep the engine's defaults; the reverse direction sets every field.
 // Neither checks ranges (MatchSettings::validate does); settings_from_proto throws
-// InputError for an enum value this version does not know.
+// InputError for an enum value this version does not know. The landmarks, a repeated field
+// outside the settings table, are copied as they are.
 #pragma once
 
 #include "isocorr/settings/match_settings.h"

@@ -43,8 +43,10 @@ std::string require_mesh_digest(const std::string& name, const char* field) {
 }
 
 // The request field an engine's settings error is about: "settings.<name>" when the message
-// begins "setting <name>" (or "settings <name> + ..."), else "settings".
+// begins "setting <name>" (or "settings <name> + ..."), "settings.landmarks[i]" when it
+// begins "landmarks[i]", else "settings".
 std::string setting_field_of(const std::string& message) {
+  if (message.rfind("landmarks[", 0) == 0) return "settings." + message.substr(0, message.find(']') + 1);
   for (const char* prefix : {"setting ", "settings "}) {
     if (message.rfind(prefix, 0) != 0) continue;
     const size_t begin = std::string(prefix).size();

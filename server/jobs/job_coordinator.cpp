@@ -1,5 +1,6 @@
 #include "jobs/job_coordinator.h"
 
+#include "isocorr/transfer/landmarks.h"
 #include "isocorr/util/error.h"
 #include "service_error.h"
 
@@ -13,9 +14,19 @@ void JobCoordinator::check_new_job(MeshRepository& meshes, const std::string& so
   } catch (const InputError& e) {
     throw ServiceError(Kind::kInvalidArgument, std::string("settings: ") + e.what());
   }
-  for (const std::string* digest : {&source_digest, &target_digest})
-    if (!meshes.describe(*digest))
-      throw ServiceError(Kind::kNotFound, "no mesh meshes/" + *digest + " on this server; upload it first");
+  int vertices[2] = {0, 0};
+  for (int side = 0; side < 2; ++side) {
+    const std::string& digest = side == 0 ? source_digest : target_digest;
+    const auto info = meshes.describe(digest);
+    if (!info) throw ServiceError(Kind::kNotFound, "no mesh meshes/" + digest + " on this server; upload it first");
+    vertices[side] = info->vertex_count;
+  }
+  // Landmarks name vertices of the files, whose counts the store knows.
+  try {
+    validate_landmarks(settings.landmarks, vertices[0], vertices[1]);
+  } catch (const InputError& e) {
+    throw ServiceError(Kind::kInvalidArgument, std::string("settings: ") + e.what());
+  }
 }
 
 JobRecord JobCoordinator::new_job(const std::string& source_digest, const std::string& target_digest,

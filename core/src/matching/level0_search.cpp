@@ -79,6 +79,23 @@ std::vector<Level0Map> search_level0(const Eigen::MatrixXd& source_distances,
   return all;
 }
 
+Level0Drop drop_level0_maps(std::vector<Level0Map>& maps, const std::vector<double>& disagreement,
+                            double max_disagreement) {
+  Level0Drop outcome;
+  if (maps.empty()) return outcome;
+  const size_t least = std::min_element(disagreement.begin(), disagreement.end()) - disagreement.begin();
+  std::vector<Level0Map> kept;
+  for (size_t i = 0; i < maps.size(); ++i)
+    if (disagreement[i] <= max_disagreement) kept.push_back(std::move(maps[i]));
+  if (kept.empty()) {
+    kept.push_back(std::move(maps[least]));
+    outcome.none_agreed = true;
+  }
+  outcome.dropped = static_cast<int>(maps.size() - kept.size());
+  maps = std::move(kept);
+  return outcome;
+}
+
 int jump_rule_count(const std::vector<Level0Map>& maps) {
   const int count = static_cast<int>(maps.size());
   if (count <= 1) return count;

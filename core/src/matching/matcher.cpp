@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
+#include <limits>
 #include <numeric>
 #include <string>
 
 #include "isocorr/refinement/refinement.h"
+#include "isocorr/transfer/landmarks.h"
 #include "isocorr/util/parallel.h"
 
 namespace isocorr {
@@ -53,9 +55,40 @@ std::vector<int> rank_tracked(const std::vector<TrackedMap>& tracked, const Matc
 
 namespace {
 
+// Drops the level-0 maps that disagree with the landmarks (transfer/landmarks.h), then keeps
+// the best max_level0_maps. A landmark pair is one more pair of the map, so it must agree
+// with the map's samples as well as they must agree with one another: its disagreement, a
+// d_iso against the samples, must stay under max_level0_diso, the bound on the map's own
+// D_iso. A map that the landmarks agree with scores about its D_iso; on a symmetric shape
+// its turned or mirrored twin scores 0.2-0.4 with a landmark on a limb.
+void drop_maps_off_landmarks(const PreprocessedShape& source, const PreprocessedShape& target,
+                             const LandmarkGeometry& landmarks, const MatchSettings& settings,
+                             std::vector<Level0Map>& maps, MatchResult& result) {
+  std::vector<double> disagreement(maps.size());
+  for (size_t i = 0; i < maps.size(); ++i) {
+    std::vector<std::pair<int, int>> pairs;
+    for (size_t a = 0; a < maps[i].target_of.size(); ++a)
+      pairs.emplace_back(source.sample_vertex(static_cast<int>(a)), target.sample_vertex(maps[i].target_of[a]));
+    disagreement[i] = landmarks.disagreement(pairs);
+  }
+  const Level0Drop drop = drop_level0_maps(maps, disagreement, settings.max_level0_diso);
+  if (maps.size() > static_cast<size_t>(settings.max_level0_maps)) maps.resize(settings.max_level0_maps);
+  LandmarkDiagnostics& diagnostics = result.diagnostics.landmarks;
+  diagnostics.level0_dropped = drop.dropped;
+  diagnostics.level0_none_agreed = drop.none_agreed;
+  if (drop.none_agreed)
+    result.messages.warnings.push_back(
+        "landmarks: no level-0 map agrees with them (disagreement under max_level0_diso = " +
+        std::to_string(settings.max_level0_diso) + "); the least disagreeing one was kept");
+  result.messages.notes.push_back("landmarks: " + std::to_string(drop.dropped) +
+                                  " level-0 maps dropped for disagreeing with them");
+}
+
 // The level-0 search over M source and M' target samples; returns M.
 int search_level0_maps(const PreprocessedShape& source, const PreprocessedShape& target,
-                       const MatchSettings& settings, int threads, Level0Diagnostics& level0) {
+                       const MatchSettings& settings, const LandmarkGeometry& landmarks, int threads,
+                       MatchResult& result) {
+  Level0Diagnostics& level0 = result.diagnostics.level0;
   const int requested_m = settings.level0_samples > 0
                               ? settings.level0_samples
                               : std::clamp(static_cast<int>(source.saliency().extremities.size()), 5, 7);
@@ -64,11 +97,14 @@ int search_level0_maps(const PreprocessedShape& source, const PreprocessedShape&
   if (m < 3 || m_prime < m)
     throw InputError("too few level-0 samples (" + std::to_string(m) + " on the source, " +
                      std::to_string(m_prime) + " on the target); lower the level-0 radius");
+  // With landmarks every map under the threshold is listed: the cap applies to those left.
   level0.maps = search_level0(sample_distances(source, m), sample_distances(target, m_prime),
-                              settings.max_level0_diso, settings.max_level0_maps, threads);
+                              settings.max_level0_diso,
+                              landmarks.empty() ? settings.max_level0_maps : std::numeric_limits<int>::max(), threads);
   if (level0.maps.empty())
     throw InputError("no level-0 map has D_iso under " + std::to_string(settings.max_level0_diso) +
                      ": the shapes are far from isometric (raise max_level0_diso to try anyway)");
+  if (!landmarks.empty()) drop_maps_off_landmarks(source, target, landmarks, settings, level0.maps, result);
   return m;
 }
 
@@ -126,9 +162,10 @@ void note_refinement(const MatchSettings& settings, const RefinedMatch& refined,
 // The refinement's dense map, with its diagnostics, step timings and notes kept in `result`;
 // the chosen tracked map becomes the refined winner's.
 DenseMap refine(const PreprocessedShape& source, const PreprocessedShape& target, const MatchSettings& settings,
-                const std::vector<int>& ranked, MatchResult& result, const JobControl& control) {
+                const LandmarkGeometry& landmarks, const std::vector<int>& ranked, MatchResult& result,
+                const JobControl& control) {
   RefinedMatch refined =
-      refine_and_choose(source, target, result.diagnostics.tracking.maps, ranked, settings, control);
+      refine_and_choose(source, target, result.diagnostics.tracking.maps, ranked, settings, control, landmarks);
   note_refinement(settings, refined, result.messages.notes);
   RefinementDiagnostics& diagnostics = result.diagnostics.refinement;
   diagnostics.screened = std::move(refined.screened);
@@ -141,6 +178,24 @@ DenseMap refine(const PreprocessedShape& source, const PreprocessedShape& target
   return std::move(refined.dense);
 }
 
+// The chosen map measured against the landmarks, then made to send each to its partner.
+void hold_landmarks(const LandmarkGeometry& landmarks, DenseMap& dense, MatchResult& result) {
+  if (landmarks.empty()) return;
+  LandmarkDiagnostics& diagnostics = result.diagnostics.landmarks;
+  diagnostics.count = landmarks.size();
+  diagnostics.chosen_errors = landmarks.errors(dense.forward);
+  diagnostics.honoured = landmarks.largest_error(dense.forward) <= kLandmarkTolerance;
+  if (!diagnostics.honoured) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "landmarks: the chosen map sent a landmark %.3f of the diameter from its partner (tolerance "
+                  "%.2f); each landmark was then sent to its partner",
+                  landmarks.largest_error(dense.forward), kLandmarkTolerance);
+    result.messages.warnings.push_back(text);
+  }
+  pin_landmarks(landmarks, dense.forward, dense.reverse);
+}
+
 }  // namespace
 
 DenseMap match_whole(const PreprocessedShape& source, const PreprocessedShape& target, const MatchSettings& settings,
@@ -151,7 +206,8 @@ DenseMap match_whole(const PreprocessedShape& source, const PreprocessedShape& t
   const int threads = resolve_thread_count(control.threads);
 
   control.report({"level0", 0, total_levels, 0.0});
-  const int m = search_level0_maps(source, target, settings, threads, result.diagnostics.level0);
+  const LandmarkGeometry landmarks(source, target, settings.landmarks);
+  const int m = search_level0_maps(source, target, settings, landmarks, threads, result);
   clock.finish("level0");
 
   TrackingDiagnostics& tracking = result.diagnostics.tracking;
@@ -164,11 +220,13 @@ DenseMap match_whole(const PreprocessedShape& source, const PreprocessedShape& t
     // The C2F dense level from the chosen map only.
     control.report({"dense", total_levels, total_levels, 0.7});
     DenseMap dense = compute_dense_map(source, target, tracking.maps[tracking.chosen].pairs, settings.dense, control);
+    hold_landmarks(landmarks, dense, result);
     clock.finish("dense");
     return dense;
   }
   control.report({"refine", total_levels, total_levels, 0.7});
-  DenseMap dense = refine(source, target, settings, ranked, result, control);
+  DenseMap dense = refine(source, target, settings, landmarks, ranked, result, control);
+  hold_landmarks(landmarks, dense, result);
   clock.finish("refine");
   return dense;
 }

@@ -82,6 +82,31 @@ TriangleMesh limbed_blob(int level) {
   return mesh;
 }
 
+TriangleMesh twofold_blob(int level) {
+  // The icosphere's vertices are symmetric under the turn, and each limb has its turned
+  // twin, so a vertex and its turned twin get the same radius (up to rounding).
+  TriangleMesh mesh = icosphere(level);
+  struct Limb {
+    Vec3 direction;
+    double length, width;
+  };
+  auto turned = [](const Limb& limb) {
+    return Limb{Vec3(-limb.direction.x(), -limb.direction.y(), limb.direction.z()), limb.length, limb.width};
+  };
+  const Limb limbs[] = {{Vec3(1, 0.3, 0.2), 1.4, 0.35}, {Vec3(0.2, -1, -0.6), 0.8, 0.30}};
+  const Limb head{Vec3(0, 0, 1), 0.5, 0.40};
+  for (Vec3& p : mesh.vertices) {
+    auto bump = [&p](const Limb& limb) {
+      const double angle = std::acos(std::clamp(p.dot(limb.direction.normalized()), -1.0, 1.0));
+      return limb.length * std::exp(-(angle * angle) / (limb.width * limb.width));
+    };
+    double radius = 1.0 + bump(head);
+    for (const Limb& limb : limbs) radius += bump(limb) + bump(turned(limb));
+    p = Vec3(p.x() * radius, p.y() * radius * 0.9, p.z() * radius * 0.8);
+  }
+  return mesh;
+}
+
 RenumberedCopy rotated_scaled_renumbered(const TriangleMesh& mesh, double scale, uint32_t seed) {
   std::mt19937 random(seed);
   RenumberedCopy copy;

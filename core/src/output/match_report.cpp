@@ -70,6 +70,13 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
                          {"chosen", refinement.chosen},
                          {"why", refinement.why}};
   }
+  const LandmarkDiagnostics& landmarks = result.diagnostics.landmarks;
+  if (landmarks.count > 0)
+    report["landmarks"] = {{"count", landmarks.count},
+                           {"level0_maps_dropped", landmarks.level0_dropped},
+                           {"level0_none_agreed", landmarks.level0_none_agreed},
+                           {"chosen_map_errors", landmarks.chosen_errors},
+                           {"chosen_map_honours_them", landmarks.honoured}};
   report["final"] = {{"diso", result.quality.diso}, {"diso_max", result.quality.diso_max},
                      {"orientation", result.quality.orientation},
                      {"source_vertices", result.output.forward.size()},

@@ -8,6 +8,7 @@
 #include "isocorr/mesh/coordinate_normalisation.h"
 #include "isocorr/partial/part_matching.h"
 #include "isocorr/partial/part_or_whole.h"
+#include "isocorr/transfer/landmarks.h"
 #include "isocorr/transfer/precise_map.h"
 #include "isocorr/util/stage_clock.h"
 
@@ -68,6 +69,9 @@ void measure_quality(const PreprocessedShape& source, const PreprocessedShape& t
 
 MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShape& target,
                          const MatchSettings& settings, const JobControl& control) {
+  // The landmarks' range needs the meshes: the files' vertex counts.
+  validate_landmarks(settings.landmarks, static_cast<int>(source.clean().input_to_clean.size()),
+                     static_cast<int>(target.clean().input_to_clean.size()));
   MatchResult result;
   const DenseMap dense = settings.method != MatchMethod::kFull
                              ? match_part_or_whole(source, target, settings, result, control)

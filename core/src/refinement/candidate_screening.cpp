@@ -27,7 +27,8 @@ std::vector<int> spread_sample_map(const std::vector<int>& nearest_sample, const
 std::vector<ScreenedStart> screen_tracked_maps(const PreprocessedShape& source, const PreprocessedShape& target,
                                                const std::vector<TrackedMap>& tracked, const std::vector<int>& starts,
                                                int k_end, const ZoomOutOptions& options,
-                                               const JobControl& control) {
+                                               const JobControl& control,
+                                               const std::vector<std::pair<int, int>>& fixed_pairs) {
   // The spectral samples are in farthest-point order: any prefix is evenly spread.
   auto first_samples = [](const PreprocessedShape& shape) {
     const std::vector<int>& all = shape.spectral_samples();
@@ -46,7 +47,7 @@ std::vector<ScreenedStart> screen_tracked_maps(const PreprocessedShape& source, 
   std::vector<ScreenedStart> screened(starts.size());
   parallel_for(static_cast<int>(starts.size()), resolve_thread_count(control.threads), [&](int i, int) {
     const int index = starts[i];
-    std::vector<std::pair<int, int>> start;
+    std::vector<std::pair<int, int>> start = fixed_pairs;
     for (const SamplePair& p : tracked[index].pairs)
       start.emplace_back(source.sample_vertex(p.source_sample), image_vertex(target, p));
     ScreenedStart& s = screened[i];

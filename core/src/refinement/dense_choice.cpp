@@ -6,6 +6,7 @@
 
 #include "isocorr/matching/orientation.h"
 #include "isocorr/shape/mean_curvature.h"
+#include "isocorr/transfer/landmarks.h"
 #include "isocorr/util/parallel.h"
 
 namespace isocorr {
@@ -111,33 +112,50 @@ double mirror_threshold(double best_orientation, double orientation_margin) {
   return std::min(kMirrorOrientation, best_orientation - orientation_margin);
 }
 
+namespace {
+
+// Whether a candidate sends every landmark within kLandmarkTolerance of its partner.
+bool honours_landmarks(const DenseCandidate& candidate) { return candidate.landmark_error <= kLandmarkTolerance; }
+
+}  // namespace
+
 int choose_dense_candidate(std::vector<DenseCandidate>& candidates, double orientation_margin, std::string& why) {
+  const bool some_honour = std::any_of(candidates.begin(), candidates.end(), honours_landmarks);
+  // Candidates off the landmarks lose to any on them, so they take no part in the tests.
+  auto competes = [&](const DenseCandidate& c) { return !some_honour || honours_landmarks(c); };
   double best_orientation = 0;
-  for (const auto& c : candidates) best_orientation = std::max(best_orientation, c.evidence.orientation);
+  for (const auto& c : candidates)
+    if (competes(c)) best_orientation = std::max(best_orientation, c.evidence.orientation);
   const double threshold = mirror_threshold(best_orientation, orientation_margin);
   bool any_finished = false;
   for (DenseCandidate& c : candidates) {
     c.score = choice_score(c.evidence);
     c.mirrored = c.evidence.orientation < threshold;
-    any_finished = any_finished || (!c.mirrored && c.finished);
+    any_finished = any_finished || (competes(c) && !c.mirrored && c.finished);
   }
   int winner = -1;
   for (int i = 0; i < static_cast<int>(candidates.size()); ++i) {
     const DenseCandidate& c = candidates[i];
-    if (c.mirrored || (any_finished && !c.finished)) continue;
+    if (!competes(c) || c.mirrored || (any_finished && !c.finished)) continue;
     if (winner < 0 || c.score < candidates[winner].score) winner = i;
   }
-  char text[300];
+  const int landmark_losers = static_cast<int>(
+      std::count_if(candidates.begin(), candidates.end(), [&](const DenseCandidate& c) { return !competes(c); }));
+  char text[400];
   std::snprintf(text, sizeof text,
                 "least curvature disagreement x cube root of distortion (%.6f) among the %d of %d refined "
-                "candidates that keep the handedness of at least %.3f of the faces (best %.3f)%s",
+                "candidates that keep the handedness of at least %.3f of the faces (best %.3f)%s%s",
                 candidates[winner].score,
                 static_cast<int>(std::count_if(candidates.begin(), candidates.end(),
                                                [&](const DenseCandidate& c) {
-                                                 return !c.mirrored && (c.finished || !any_finished);
+                                                 return competes(c) && !c.mirrored && (c.finished || !any_finished);
                                                })),
                 static_cast<int>(candidates.size()), threshold, best_orientation,
-                any_finished ? " and were finished" : "");
+                any_finished ? " and were finished" : "",
+                landmark_losers > 0 ? (", " + std::to_string(landmark_losers) +
+                                       " sending a landmark farther than the tolerance from its partner left out")
+                                          .c_str()
+                                    : (some_honour ? "" : ", none honouring the landmarks"));
   why = text;
   return winner;
 }

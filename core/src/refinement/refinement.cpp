@@ -161,8 +161,8 @@ std::vector<int> pick_distinct(const std::vector<TrackedMap>& tracked, const std
 class CandidateRefinement {
  public:
   CandidateRefinement(const PreprocessedShape& source, const PreprocessedShape& target, const MatchSettings& settings,
-                      const JobControl& control)
-      : source_(source), target_(target), settings_(settings), control_(control),
+                      const JobControl& control, const LandmarkGeometry& landmarks)
+      : source_(source), target_(target), settings_(settings), control_(control), landmarks_(landmarks),
         options_(settings.zoomout), source_side_(spectral_side(source)),
         target_side_(spectral_side(target)), threads_(resolve_thread_count(control.threads)),
         clock_(result_.timings) {}
@@ -171,8 +171,9 @@ class CandidateRefinement {
   // refine_candidates of them, from the ranking and the screen in turn, go on
   // (candidate_screening.h).
   void screen(const std::vector<TrackedMap>& tracked, const std::vector<int>& picked) {
-    std::vector<ScreenedStart> starts = screen_tracked_maps(
-        source_, target_, tracked, picked, std::min(settings_.screen_k_end, options_.k_end), options_, control_);
+    std::vector<ScreenedStart> starts =
+        screen_tracked_maps(source_, target_, tracked, picked, std::min(settings_.screen_k_end, options_.k_end),
+                            options_, control_, landmarks_.pairs());
     for (const ScreenedStart& start : starts) result_.screened.push_back(start.evidence);
     starts_ = starts_to_refine(std::move(starts), settings_.refine_candidates, settings_.orientation_margin,
                                target_.geodesics().topology());
@@ -226,8 +227,13 @@ class CandidateRefinement {
     const double best_handedness = maps_.empty() ? 0 : *std::max_element(handedness.begin(), handedness.end());
     std::vector<std::pair<double, size_t>> by_curvature;
     const double mirror_below = mirror_threshold(best_handedness, settings_.orientation_margin);
+    // Maps off the landmarks would lose the choice to any on them: not worth finishing.
+    std::vector<bool> on_landmarks(maps_.size());
     for (size_t i = 0; i < maps_.size(); ++i)
-      if (handedness[i] >= mirror_below)
+      on_landmarks[i] = landmarks_.largest_error(maps_[i].image) <= kLandmarkTolerance;
+    const bool some_on = std::find(on_landmarks.begin(), on_landmarks.end(), true) != on_landmarks.end();
+    for (size_t i = 0; i < maps_.size(); ++i)
+      if (handedness[i] >= mirror_below && (on_landmarks[i] || !some_on))
         by_curvature.emplace_back(curvature_disagreement(source_, target_, maps_[i].image), i);
     std::sort(by_curvature.begin(), by_curvature.end());
     while (by_curvature.size() > kAlwaysFinished &&
@@ -357,12 +363,14 @@ class CandidateRefinement {
     candidate.forward = maps_[i].image;
     candidate.evidence = measure_dense_map(source_, target_, maps_[i].image, maps_[i].reverse_image,
                                            settings_.dense_choice_sources, threads);
+    candidate.landmark_error = landmarks_.largest_error(maps_[i].image);
   }
 
   const PreprocessedShape& source_;
   const PreprocessedShape& target_;
   const MatchSettings& settings_;
   const JobControl& control_;
+  const LandmarkGeometry& landmarks_;
   const ZoomOutOptions options_;
   const SpectralSide source_side_, target_side_;
   std::optional<RigidityPolish> rigidity_;
@@ -384,9 +392,10 @@ class CandidateRefinement {
 
 RefinedMatch refine_and_choose(const PreprocessedShape& source, const PreprocessedShape& target,
                                const std::vector<TrackedMap>& tracked, const std::vector<int>& ranked,
-                               const MatchSettings& settings, const JobControl& control) {
+                               const MatchSettings& settings, const JobControl& control,
+                               const LandmarkGeometry& landmarks) {
   require_spectral_bases(source, target);
-  CandidateRefinement run(source, target, settings, control);
+  CandidateRefinement run(source, target, settings, control, landmarks);
   run.screen(tracked, pick_distinct(tracked, ranked, std::max(settings.screen_candidates, settings.refine_candidates)));
   run.refine();
   run.drop_duplicates();

@@ -6,6 +6,7 @@
 #include <limits>
 #include <type_traits>
 
+#include "isocorr/transfer/landmarks.h"
 #include "isocorr/util/error.h"
 
 namespace isocorr {
@@ -251,6 +252,12 @@ std::vector<SettingField> process_rows() {
   };
 }
 
+// MatchSettings::landmarks is not a row: a row is one number (get/set as a double), which
+// is what lets the flags, the codec's reflection and the JSON walk every row alike, and a
+// list of vertex pairs is not one. So each of those handles it beside the table, in the
+// same places: MatchSettings::validate and same_settings below, settings_json.cpp, the
+// proto's repeated `landmarks` (codec/settings_codec.cpp) and the CLI's --landmarks FILE
+// (client/settings_flags.cpp). It is per match, so settings_key never includes it.
 std::vector<SettingField> build_schema() {
   // Ranges are what the algorithms can run with, not what is sensible: the defaults and
   // their measured reasons are beside the members.
@@ -371,7 +378,7 @@ void validate_preprocess_options(const PreprocessOptions& options) {
 bool same_settings(const MatchSettings& a, const MatchSettings& b) {
   for (const auto& field : settings_schema())
     if (field.get(a) != field.get(b)) return false;
-  return true;
+  return a.landmarks == b.landmarks;
 }
 
 void MatchSettings::validate() const {
@@ -394,6 +401,7 @@ void MatchSettings::validate() const {
   if (std::max(level0_samples, 7) + level0_extra_targets > preprocess.max_level0_samples)
     throw InputError("settings level0_samples + level0_extra_targets (M') exceed max_level0_samples = " +
                      std::to_string(preprocess.max_level0_samples) + ", the level-0 samples kept per mesh");
+  validate_landmarks(landmarks);
 }
 
 }  // namespace isocorr

@@ -22,6 +22,19 @@ std::vector<Level0Map> search_level0(const Eigen::MatrixXd& source_distances,
                                      const Eigen::MatrixXd& target_distances, double max_diso,
                                      int max_maps, int threads);
 
+// What drop_level0_maps did.
+struct Level0Drop {
+  int dropped = 0;           // maps removed
+  bool none_agreed = false;  // every map disagreed: the least disagreeing one was kept
+};
+
+// Removes the maps whose `disagreement` (one per map, in the order of `maps`; the
+// landmarks' measure, transfer/landmarks.h) exceeds `max_disagreement`, keeping the order
+// of the rest. Never leaves none: when every map disagrees, the least disagreeing one
+// stays (the first of equals) and the outcome says so.
+Level0Drop drop_level0_maps(std::vector<Level0Map>& maps, const std::vector<double>& disagreement,
+                            double max_disagreement);
+
 // The paper's jump rule (Sec. 4): delta = 2 * mean(D_l - D_{l-1}, l = 2..11); N is the
 // first index with D_{N+1} - D_N > delta. Returns N (>= 1 when the list is non-empty).
 int jump_rule_count(const std::vector<Level0Map>& sorted_maps);

@@ -20,6 +20,13 @@ TriangleMesh grid(int nx, int ny, double jitter = 0, uint32_t seed = 1);
 // irregular directions. No intrinsic symmetry, so the correct map is unique.
 TriangleMesh limbed_blob(int level);
 
+// A creature with one exact symmetry: turning it by 180 degrees about the z axis, (x, y, z)
+// -> (-x, -y, z), maps it onto itself, vertex onto vertex (up to rounding). Two limbs of each of two lengths,
+// one of each turned into the other, and a head on the axis. That turn keeps handedness, so
+// the map and the map composed with the turn are equally right: only a landmark tells them
+// apart. No other symmetry: the limbs point in irregular directions.
+TriangleMesh twofold_blob(int level);
+
 // A rotated, scaled and renumbered copy: vertex i of `mesh` becomes vertex
 // `permutation[i]` of the copy, faces are shuffled. Isometric up to scale.
 struct RenumberedCopy {

@@ -82,8 +82,20 @@ struct PartDiagnostics {
   std::vector<PartCandidate> candidates;  // the part search's dense candidates, in tracked order
 };
 
+// What the landmarks (MatchSettings::landmarks, transfer/landmarks.h) did; all zero without.
+struct LandmarkDiagnostics {
+  int count = 0;             // distinct landmarks in the shapes' clean numbering
+  int level0_dropped = 0;    // level-0 maps dropped for disagreeing with them
+  bool level0_none_agreed = false;  // none agreed: the least disagreeing map was kept
+  // The chosen map's distance from each landmark's image to its partner, / the target's
+  // diameter, before the landmarks were pinned (the final map sends each to its partner).
+  std::vector<double> chosen_errors;
+  bool honoured = true;      // every one of chosen_errors is within kLandmarkTolerance
+};
+
 struct MatchDiagnostics {
   Level0Diagnostics level0;
+  LandmarkDiagnostics landmarks;
   TrackingDiagnostics tracking;
   RefinementDiagnostics refinement;
   PartDiagnostics part;

@@ -11,7 +11,8 @@
 namespace isocorr {
 
 // Matches two preprocessed shapes. `settings` must have passed validate() (run_match
-// does that once). Deterministic for given inputs and settings. Reports progress as
+// does that once); the landmarks' range against the meshes is checked here (InputError
+// "landmarks[i]: ..."). Deterministic for given inputs and settings. Reports progress as
 // fractions of the match alone.
 MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShape& target,
                          const MatchSettings& settings, const JobControl& control = {});

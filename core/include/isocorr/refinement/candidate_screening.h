@@ -38,11 +38,13 @@ struct ScreenedStart {
 };
 
 // Refines each of `starts` (tracked-map indices) on the samples up to basis size `k_end`
-// and measures it. In the order of `starts`; deterministic.
+// and measures it. `fixed_pairs` (source vertex, target vertex: the landmarks) join every
+// start's pairs. In the order of `starts`; deterministic.
 std::vector<ScreenedStart> screen_tracked_maps(const PreprocessedShape& source, const PreprocessedShape& target,
                                                const std::vector<TrackedMap>& tracked, const std::vector<int>& starts,
                                                int k_end, const ZoomOutOptions& options,
-                                               const JobControl& control = {});
+                                               const JobControl& control = {},
+                                               const std::vector<std::pair<int, int>>& fixed_pairs = {});
 
 // The `count` starts worth a full refinement, taken in turn from two orders: the tracked
 // ranking (the order of `screened`), skipping starts the screen found mirrored, and the

@@ -69,6 +69,9 @@ struct DenseCandidate {
   DenseEvidence evidence;
   double score = 0;       // choice_score(evidence) (lower wins)
   bool mirrored = false;  // orientation below mirror_threshold: not eligible
+  // The largest distance from a landmark's image to its partner (transfer/landmarks.h), 0
+  // without landmarks; above kLandmarkTolerance the candidate loses to any within it.
+  double landmark_error = 0;
   bool finished = true;   // repaired and polished before the choice (refinement.h): an
                           // unfinished candidate competes only when no finished one is eligible
   std::vector<int> forward;  // its dense map (clean numbering; the files' in a MatchResult)
@@ -90,7 +93,10 @@ double mirror_threshold(double best_orientation, double orientation_margin);
 
 // Marks candidates below mirror_threshold as mirrored, scores the rest by choice_score,
 // and returns the index of the winner: the least score among the eligible
-// finished candidates, or among all eligible ones when no finished one is.
+// finished candidates, or among all eligible ones when no finished one is. When some
+// candidate honours the landmarks (landmark_error within kLandmarkTolerance), only those
+// that do compete, and the mirror test is made among them: the user's correspondence
+// outranks every measure of the maps.
 // `why` receives one sentence for the report.
 int choose_dense_candidate(std::vector<DenseCandidate>& candidates, double orientation_margin, std::string& why);
 

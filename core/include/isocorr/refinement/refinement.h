@@ -14,6 +14,7 @@
 #include "isocorr/refinement/outlier_repair.h"
 #include "isocorr/refinement/rigidity_polish.h"
 #include "isocorr/settings/match_settings.h"
+#include "isocorr/transfer/landmarks.h"
 #include "isocorr/util/stage_clock.h"
 
 namespace isocorr {
@@ -46,10 +47,12 @@ struct RefinedMatch {
 // three whose raw curvature disagreement is within 15% of the best raw one's are finished
 // (outlier repair, rigidity polish), and the finished ones compete (dense_choice.h); only
 // when none passes the mirror test do unfinished ones, and a winner among them is
-// finished then.
+// finished then. `landmarks` join every start's pairs, and when some refined map honours
+// them only those are finished and compete (dense_choice.h); the caller pins them.
 RefinedMatch refine_and_choose(const PreprocessedShape& source, const PreprocessedShape& target,
                                const std::vector<TrackedMap>& tracked, const std::vector<int>& ranked,
-                               const MatchSettings& settings, const JobControl& control);
+                               const MatchSettings& settings, const JobControl& control,
+                               const LandmarkGeometry& landmarks = LandmarkGeometry());
 
 // One map refined as the chosen candidate is, from (source vertex, target vertex) pairs in
 // the shapes' clean numbering instead of a tracked map: ZoomOut from the pairs up to

@@ -3,6 +3,8 @@
 // CLI, the API codec, the job journal, the report and the cache key are derived from.
 #pragma once
 
+#include <vector>
+
 #include "isocorr/matching/dense_map.h"
 #include "isocorr/matching/flip_tracking.h"
 #include "isocorr/refinement/rigidity_polish.h"
@@ -25,6 +27,14 @@ enum class MatchMethod {
 enum class SelectionRule {
   kOrientationThenDistortion,  // default: keep the tracked maps that best keep orientation, then least D_iso
   kLeastDistortion,            // the paper's rule: least D_iso at level K1
+};
+
+// A correspondence the user knows (a nose, a left hand): source vertex -> target vertex, in
+// the input files' numbering. transfer/landmarks.h says how the match uses them.
+struct Landmark {
+  int source_vertex = 0;
+  int target_vertex = 0;
+  bool operator==(const Landmark&) const = default;
 };
 
 struct MatchSettings {
@@ -86,9 +96,13 @@ struct MatchSettings {
   int refine_passes = 0;
   int dense_choice_sources = 16;    // fast-marching fields per candidate for its dense distortion
   int threads = 0;                  // 0 = all cores; results do not depend on it
+  // Known correspondences: a list, so not a row of the settings table (settings_schema.cpp
+  // says how it is handled beside it). Per match: not part of the shape cache key.
+  std::vector<Landmark> landmarks;
 
-  // Throws InputError naming the first setting out of range (the schema's ranges), or the
-  // first pair of settings that contradict each other.
+  // Throws InputError naming the first setting out of range (the schema's ranges), the
+  // first pair of settings that contradict each other, or the first bad landmark
+  // ("landmarks[2]: ..."; their range against the meshes is checked once those are known).
   void validate() const;
 };
 

@@ -63,7 +63,7 @@ std::string settings_key(const MatchSettings& settings, SettingScope scope);
 // Throws InputError naming the first preprocessing field out of range.
 void validate_preprocess_options(const PreprocessOptions& options);
 
-// True when every field of the table has the same value in both.
+// True when every field of the table has the same value in both, and the same landmarks.
 bool same_settings(const MatchSettings& a, const MatchSettings& b);
 
 }  // namespace isocorr

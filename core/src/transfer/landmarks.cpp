@@ -1,0 +1,110 @@
+#include "isocorr/transfer/landmarks.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "isocorr/util/error.h"
+
+namespace isocorr {
+namespace {
+
+std::string out_of_range(const char* side, int vertex, int count) {
+  return std::string(side) + " vertex " + std::to_string(vertex) + " is out of range: the " + side + " mesh has " +
+         std::to_string(count) + " vertices";
+}
+
+}  // namespace
+
+std::optional<LandmarkProblem> find_landmark_problem(const std::vector<Landmark>& landmarks, int source_vertices,
+                                                     int target_vertices) {
+  std::map<int, size_t> by_source, by_target;  // vertex -> first entry naming it
+  if (landmarks.size() > kMaxLandmarks)
+    return LandmarkProblem{kMaxLandmarks, "more than " + std::to_string(kMaxLandmarks) + " landmarks", {}};
+  for (size_t i = 0; i < landmarks.size(); ++i) {
+    const Landmark& l = landmarks[i];
+    if (l.source_vertex < 0) return LandmarkProblem{i, "source vertex " + std::to_string(l.source_vertex) + " is negative", {}};
+    if (l.target_vertex < 0) return LandmarkProblem{i, "target vertex " + std::to_string(l.target_vertex) + " is negative", {}};
+    if (source_vertices >= 0 && l.source_vertex >= source_vertices)
+      return LandmarkProblem{i, out_of_range("source", l.source_vertex, source_vertices), {}};
+    if (target_vertices >= 0 && l.target_vertex >= target_vertices)
+      return LandmarkProblem{i, out_of_range("target", l.target_vertex, target_vertices), {}};
+    const auto source_seen = by_source.find(l.source_vertex);
+    const auto target_seen = by_target.find(l.target_vertex);
+    if (source_seen != by_source.end() && landmarks[source_seen->second] == l)
+      return LandmarkProblem{i,
+                             "the pair " + std::to_string(l.source_vertex) + " " + std::to_string(l.target_vertex) +
+                                 " is given twice",
+                             source_seen->second};
+    if (source_seen != by_source.end())
+      return LandmarkProblem{i,
+                             "source vertex " + std::to_string(l.source_vertex) + " is given two targets, " +
+                                 std::to_string(landmarks[source_seen->second].target_vertex) + " and " +
+                                 std::to_string(l.target_vertex),
+                             source_seen->second};
+    if (target_seen != by_target.end())
+      return LandmarkProblem{i,
+                             "target vertex " + std::to_string(l.target_vertex) + " is given two sources, " +
+                                 std::to_string(landmarks[target_seen->second].source_vertex) + " and " +
+                                 std::to_string(l.source_vertex),
+                             target_seen->second};
+    by_source.emplace(l.source_vertex, i);
+    by_target.emplace(l.target_vertex, i);
+  }
+  return std::nullopt;
+}
+
+void validate_landmarks(const std::vector<Landmark>& landmarks, int source_vertices, int target_vertices) {
+  if (const auto problem = find_landmark_problem(landmarks, source_vertices, target_vertices))
+    throw InputError("landmarks[" + std::to_string(problem->index) + "]: " + problem->message +
+                     (problem->earlier ? " (landmarks[" + std::to_string(*problem->earlier) + "])" : ""));
+}
+
+LandmarkGeometry::LandmarkGeometry(const PreprocessedShape& source, const PreprocessedShape& target,
+                                   const std::vector<Landmark>& in_files) {
+  auto field = [](const PreprocessedShape& shape, int vertex) {
+    std::vector<float> distances = shape.geodesics().distance_field(vertex);
+    const float scale = static_cast<float>(1.0 / shape.diameter());
+    for (float& d : distances) d *= scale;
+    return distances;
+  };
+  for (const Landmark& l : in_files) {
+    const int s = source.clean().input_to_clean.at(l.source_vertex);
+    const int t = target.clean().input_to_clean.at(l.target_vertex);
+    // Welded input vertices share a clean vertex: the first landmark naming it counts.
+    const bool seen = std::any_of(pairs_.begin(), pairs_.end(),
+                                  [&](const std::pair<int, int>& p) { return p.first == s || p.second == t; });
+    if (seen) continue;
+    pairs_.emplace_back(s, t);
+    source_fields_.push_back(field(source, s));
+    target_fields_.push_back(field(target, t));
+  }
+}
+
+double LandmarkGeometry::disagreement(const std::vector<std::pair<int, int>>& vertex_pairs) const {
+  if (pairs_.empty() || vertex_pairs.empty()) return 0;
+  double sum = 0;
+  for (size_t l = 0; l < pairs_.size(); ++l)
+    for (const auto& [a, b] : vertex_pairs) sum += std::abs(source_fields_[l][a] - target_fields_[l][b]);
+  return sum / (static_cast<double>(pairs_.size()) * vertex_pairs.size());
+}
+
+std::vector<double> LandmarkGeometry::errors(const std::vector<int>& forward) const {
+  std::vector<double> out;
+  for (size_t l = 0; l < pairs_.size(); ++l) out.push_back(target_fields_[l][forward[pairs_[l].first]]);
+  return out;
+}
+
+double LandmarkGeometry::largest_error(const std::vector<int>& forward) const {
+  const std::vector<double> all = errors(forward);
+  return all.empty() ? 0.0 : *std::max_element(all.begin(), all.end());
+}
+
+void pin_landmarks(const LandmarkGeometry& landmarks, std::vector<int>& forward, std::vector<int>& reverse) {
+  for (const auto& [s, t] : landmarks.pairs()) {
+    forward[s] = t;
+    reverse[t] = s;
+  }
+}
+
+}  // namespace isocorr
