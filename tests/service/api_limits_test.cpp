@@ -342,6 +342,68 @@ TEST_F(ApiLimits, ErrorsCarryErrorInfoAndBadRequestDetails) {
   EXPECT_EQ(error["field_violations"][0].value("field", ""), "settings.level0_samples") << error.dump();
 }
 
+// Landmarks travel in the request's settings: a bad entry is refused at creation, naming
+// it, and a good list stays with the job: in its record, its report and its map, across a
+// restart of the server.
+TEST_F(ApiLimits, LandmarksAreCheckedAtCreationAndKeptWithTheJob) {
+  const std::vector<int> truth = rotated_scaled_renumbered(limbed_blob(3), 1.3, 7).permutation;
+  std::string job;
+  {
+    ServerProcess server(data_dir());
+    RawApi api(server.address());
+    v1::CreateMatchJobRequest create;
+    create.set_source_mesh(last_json(server.client("upload " + path("creature.ply").string() + " --json"))["mesh"]["name"]);
+    create.set_target_mesh(
+        last_json(server.client("upload " + path("creature_moved.ply").string() + " --json"))["mesh"]["name"]);
+    auto add = [&](int source_vertex, int target_vertex) {
+      v1::Landmark* landmark = create.mutable_settings()->add_landmarks();
+      landmark->set_source_vertex(source_vertex);
+      landmark->set_target_vertex(target_vertex);
+    };
+    add(0, truth[0]);
+    add(5, truth[5]);
+    add(5, truth[6]);
+    v1::Job created;
+    const grpc::Status contradictory = api.jobs().CreateMatchJob(RawApi::context().get(), create, &created);
+    ASSERT_EQ(contradictory.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+    EXPECT_NE(contradictory.error_message().find("landmarks[2]: source vertex 5 is given two targets"),
+              std::string::npos)
+        << contradictory.error_message();
+    EXPECT_EQ(details_of(contradictory).fields, std::vector<std::string>{"settings.landmarks[2]"});
+
+    create.mutable_settings()->mutable_landmarks(2)->set_source_vertex(100000);
+    const grpc::Status beyond = api.jobs().CreateMatchJob(RawApi::context().get(), create, &created);
+    ASSERT_EQ(beyond.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+    EXPECT_NE(beyond.error_message().find("landmarks[2]: source vertex 100000 is out of range"), std::string::npos)
+        << beyond.error_message();
+
+    create.mutable_settings()->mutable_landmarks()->RemoveLast();
+    ASSERT_TRUE(api.jobs().CreateMatchJob(RawApi::context().get(), create, &created).ok());
+    job = created.name();
+    EXPECT_EQ(last_json(server.client("wait " + job + " --json"))["state"], "SUCCEEDED");
+  }
+  ServerProcess server(data_dir());
+  RawApi api(server.address());
+  v1::GetJobRequest get;
+  get.set_name(job);
+  v1::Job kept;
+  ASSERT_TRUE(api.jobs().GetJob(RawApi::context().get(), get, &kept).ok());
+  ASSERT_EQ(kept.settings().landmarks_size(), 2);
+  EXPECT_EQ(kept.settings().landmarks(1).source_vertex(), 5);
+  EXPECT_EQ(kept.settings().landmarks(1).target_vertex(), truth[5]);
+  const fs::path map = data_dir() / "landmarks.map", report = data_dir() / "landmarks.json";
+  const CommandRun download = server.client("download " + job + " -o " + map.string() + " --report " + report.string());
+  ASSERT_EQ(download.exit_code, 0) << download.err;
+  std::ifstream in(report);
+  const json kept_report = json::parse(in);
+  EXPECT_EQ(kept_report["settings"]["landmarks"].size(), 2u);
+  EXPECT_EQ(kept_report["landmarks"]["chosen_map_honours_them"], true);
+  std::ifstream forward(map);
+  int image_of_0 = -1;
+  forward >> image_of_0;
+  EXPECT_EQ(image_of_0, truth[0]);
+}
+
 TEST_F(ApiLimits, PageTokensParseStrictly) {
   ServerProcess server(data_dir());
   RawApi api(server.address());
