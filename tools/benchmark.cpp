@@ -27,6 +27,7 @@
 #include "isocorr/pipeline/run_match.h"
 #include "isocorr/mesh/mesh_io.h"
 #include "isocorr/refinement/refinement.h"
+#include "isocorr/transfer/landmarks.h"
 #include "isocorr/transfer/precise_map.h"
 #include "isocorr/util/huge_page_malloc.h"
 #include "settings_flags.h"
@@ -79,14 +80,43 @@ RuleOutcome score(const MatchResult& result, const TriangleMesh& target, const F
   return out;
 }
 
+// `count` landmarks from the ground truth, as a user would give them: at the source's
+// extremities (hands, feet, head first), each with the truth's image of the ground-truth
+// point nearest it on the source.
+std::vector<Landmark> landmarks_from_truth(const PreprocessedShape& source, const GroundTruth& truth, int count) {
+  std::vector<Landmark> landmarks;
+  for (const int extremity : source.saliency().extremities) {
+    if (static_cast<int>(landmarks.size()) >= count) break;
+    const std::vector<float> distance = source.geodesics().distance_field(extremity);
+    int nearest = -1;
+    for (size_t k = 0; k < truth.source.size(); ++k) {
+      if (truth.source[k] < 0 || truth.target[k] < 0) continue;
+      const int clean = source.clean().input_to_clean[truth.source[k]];
+      if (nearest < 0 || distance[clean] < distance[source.clean().input_to_clean[truth.source[nearest]]])
+        nearest = static_cast<int>(k);
+    }
+    if (nearest < 0) break;
+    const Landmark landmark{truth.source[nearest], truth.target[nearest]};
+    std::vector<Landmark> with = landmarks;
+    with.push_back(landmark);
+    if (!find_landmark_problem(with)) landmarks = std::move(with);
+  }
+  return landmarks;
+}
+
 // Runs in the child: the whole job as a user would run it, then scoring (not timed).
 PairOutcome run_pair(const std::string& dataset, const BenchmarkPair& pair, MatchSettings settings, int points,
-                     bool as_set_only, bool candidates) {
+                     bool as_set_only, bool candidates, int truth_landmarks) {
   PairOutcome outcome;
   const auto start = std::chrono::steady_clock::now();
   const LoadedMesh source = load_mesh(pair.source_path);
   const LoadedMesh target = load_mesh(pair.target_path);
   MeshPairShapes shapes(source.mesh, target.mesh);  // the other variants reuse the preprocessing
+  if (truth_landmarks > 0)
+    settings.landmarks =
+        landmarks_from_truth(*shapes.shape(ShapeRole::kSource, settings.preprocess, {}),
+                             load_ground_truth(dataset, pair, source.mesh.num_vertices(), target.mesh.num_vertices()),
+                             truth_landmarks);
   const MatchResult as_set = run_match(shapes, settings);
   outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   MatchResult c2f, paper;
@@ -166,6 +196,7 @@ struct RunOptions {
   bool as_set_only = false;  // skip the C2F and paper variants
   bool candidates = false;   // score every refined candidate too
   bool from_truth = false;   // the refinement alone, from the ground truth (implies as_set_only)
+  int truth_landmarks = 0;   // landmarks per pair taken from the ground truth
 };
 
 std::string serialise(const PairOutcome& o) {
@@ -211,7 +242,8 @@ PairOutcome run_in_child(const std::string& dataset, const BenchmarkPair& pair, 
     PairOutcome outcome;
     try {
       outcome = run.from_truth ? run_pair_from_truth(dataset, pair, settings, run.points)
-                               : run_pair(dataset, pair, settings, run.points, run.as_set_only, run.candidates);
+                               : run_pair(dataset, pair, settings, run.points, run.as_set_only, run.candidates,
+                                          run.truth_landmarks);
     } catch (const std::exception& e) {
       outcome.error = e.what();
     }
@@ -303,6 +335,10 @@ int main(int argc, char** argv) {
   app.add_flag("--from-truth", run.from_truth,
                "refine from the ground-truth correspondences instead of the tracked maps (the error the "
                "refinement adds by itself; implies --as-set-only)");
+  app.add_option("--truth-landmarks", run.truth_landmarks,
+                 "give each pair this many landmarks from the ground truth, at the source's extremities (the "
+                 "source is then preprocessed before the target, not beside it)")
+      ->check(CLI::Range(0, 10));
   isocorr::cli::LandmarksFile landmarks_file;
   isocorr::cli::add_match_settings_flags(app, settings, landmarks_file);
   CLI11_PARSE(app, argc, argv);

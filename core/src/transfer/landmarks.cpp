@@ -18,36 +18,39 @@ std::string out_of_range(const char* side, int vertex, int count) {
 
 std::optional<LandmarkProblem> find_landmark_problem(const std::vector<Landmark>& landmarks, int source_vertices,
                                                      int target_vertices) {
-  std::map<int, size_t> by_source, by_target;  // vertex -> first entry naming it
   if (landmarks.size() > kMaxLandmarks)
     return LandmarkProblem{kMaxLandmarks, "more than " + std::to_string(kMaxLandmarks) + " landmarks", {}};
+  std::map<int, size_t> by_source, by_target;  // vertex -> first entry naming it
   for (size_t i = 0; i < landmarks.size(); ++i) {
     const Landmark& l = landmarks[i];
-    if (l.source_vertex < 0) return LandmarkProblem{i, "source vertex " + std::to_string(l.source_vertex) + " is negative", {}};
-    if (l.target_vertex < 0) return LandmarkProblem{i, "target vertex " + std::to_string(l.target_vertex) + " is negative", {}};
+    auto problem = [i](const std::string& message, std::optional<size_t> earlier = std::nullopt) {
+      return LandmarkProblem{i, message, earlier};
+    };
+    if (l.source_vertex < 0) return problem("source vertex " + std::to_string(l.source_vertex) + " is negative");
+    if (l.target_vertex < 0) return problem("target vertex " + std::to_string(l.target_vertex) + " is negative");
     if (source_vertices >= 0 && l.source_vertex >= source_vertices)
-      return LandmarkProblem{i, out_of_range("source", l.source_vertex, source_vertices), {}};
+      return problem(out_of_range("source", l.source_vertex, source_vertices));
     if (target_vertices >= 0 && l.target_vertex >= target_vertices)
-      return LandmarkProblem{i, out_of_range("target", l.target_vertex, target_vertices), {}};
+      return problem(out_of_range("target", l.target_vertex, target_vertices));
+    // "source vertex 1 is given two targets, 2 and 5": `earlier` named the vertex first.
+    auto two_partners = [&](const char* side, int vertex, const char* partners, int first, size_t earlier) {
+      const int second = side[0] == 's' ? l.target_vertex : l.source_vertex;
+      return problem(std::string(side) + " vertex " + std::to_string(vertex) + " is given two " + partners + ", " +
+                         std::to_string(first) + " and " + std::to_string(second),
+                     earlier);
+    };
     const auto source_seen = by_source.find(l.source_vertex);
     const auto target_seen = by_target.find(l.target_vertex);
     if (source_seen != by_source.end() && landmarks[source_seen->second] == l)
-      return LandmarkProblem{i,
-                             "the pair " + std::to_string(l.source_vertex) + " " + std::to_string(l.target_vertex) +
-                                 " is given twice",
-                             source_seen->second};
+      return problem("the pair " + std::to_string(l.source_vertex) + " " + std::to_string(l.target_vertex) +
+                         " is given twice",
+                     source_seen->second);
     if (source_seen != by_source.end())
-      return LandmarkProblem{i,
-                             "source vertex " + std::to_string(l.source_vertex) + " is given two targets, " +
-                                 std::to_string(landmarks[source_seen->second].target_vertex) + " and " +
-                                 std::to_string(l.target_vertex),
-                             source_seen->second};
+      return two_partners("source", l.source_vertex, "targets", landmarks[source_seen->second].target_vertex,
+                          source_seen->second);
     if (target_seen != by_target.end())
-      return LandmarkProblem{i,
-                             "target vertex " + std::to_string(l.target_vertex) + " is given two sources, " +
-                                 std::to_string(landmarks[target_seen->second].source_vertex) + " and " +
-                                 std::to_string(l.source_vertex),
-                             target_seen->second};
+      return two_partners("target", l.target_vertex, "sources", landmarks[target_seen->second].source_vertex,
+                          target_seen->second);
     by_source.emplace(l.source_vertex, i);
     by_target.emplace(l.target_vertex, i);
   }
