@@ -103,6 +103,28 @@ TEST(DenseChoice, ATurnedMapLosesOnCurvature) {
   EXPECT_NE(why.find("curvature"), std::string::npos);
 }
 
+// The user's landmarks outrank the evidence: a candidate that sends one far from its
+// partner loses to any that does not, even to a worse-scoring one; and the mirror test is
+// made among those that honour them. Without any that honours them, the evidence decides.
+TEST(DenseChoice, ACandidateOffTheLandmarksLosesToOneOnThem) {
+  std::vector<DenseCandidate> candidates = {
+      candidate_with(0.97, 0.14, 0.010),  // the evidence's choice, a landmark on the wrong side
+      candidate_with(0.95, 0.19, 0.009),  // turned the way the landmark says
+      candidate_with(0.05, 0.10, 0.010),  // mirrored, though on the landmarks
+  };
+  candidates[0].landmark_error = 0.6;
+  candidates[1].landmark_error = 0.02;
+  candidates[2].landmark_error = 0.03;
+  std::string why;
+  EXPECT_EQ(choose_dense_candidate(candidates, 0.1, why), 1);
+  EXPECT_TRUE(candidates[2].mirrored);
+  EXPECT_NE(why.find("1 sending a landmark farther"), std::string::npos) << why;
+
+  for (DenseCandidate& c : candidates) c.landmark_error = 0.5;
+  EXPECT_EQ(choose_dense_candidate(candidates, 0.1, why), 0);
+  EXPECT_NE(why.find("none honouring the landmarks"), std::string::npos) << why;
+}
+
 // A map with a swapped limb looks at the same shapes as the right map (curvature within
 // 2%, SCAPE 002 -> 008) but tears geodesics at its seams; a turned body's distortion is as
 // low as the right map's, its curvature is not.

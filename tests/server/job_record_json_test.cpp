@@ -22,6 +22,7 @@ JobRecord sample_record() {
   job.error_message = "gave up";
   job.summary.timings = {{"dense", 0.5}};
   job.created_by_request = "r42";
+  job.settings.landmarks = {{3, 8}, {10, 2}};  // a restarted server reruns the job with them
   return job;
 }
 
@@ -36,6 +37,7 @@ TEST(JobRecordJson, RoundTripKeepsEveryStoredField) {
   ASSERT_EQ(back.summary.timings.size(), 1u);
   EXPECT_EQ(back.summary.timings[0].stage, "dense");
   EXPECT_EQ(back.created_by_request, "r42");
+  EXPECT_EQ(back.settings.landmarks, sample_record().settings.landmarks);
 }
 
 // Records written before jobs kept the request that created them stay readable.
