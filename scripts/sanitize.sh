@@ -17,7 +17,9 @@
 # service's gRPC-free domain library) and also leaves out the CLI's match tests (the same
 # threaded pipeline, in another process), the complete pipeline on the fine creature
 # (MatcherOnBlob.RecoversThePermutation, 280 s under gcc's TSan; MatcherSelfMatch and the coarse holed part
-# run it on two threads), the same pipeline on scaled copies (MatcherAtAnyScale) and the single-threaded cleaning speed test, whose 1 s budget
+# run it on two threads), the same pipeline on scaled copies (MatcherAtAnyScale) and with
+# landmarks (three matches of the coarse twofold creature; the CLI's --landmarks match), and
+# the single-threaded cleaning speed test, whose 1 s budget
 # TSan's slowdown exceeds. The processes of the service tests
 # stay out of TSan for good: there it reports races inside gRPC's inline headers and threads
 # (byte_buffer.h, callback handlers' std::function, grpc_core::Thread) that Debian's
@@ -44,6 +46,8 @@ case "$kind" in
   asan) sanitizers=address,undefined ;;
   tsan) sanitizers=thread; service=OFF
         skipped="$skipped|MatchCommand|MatcherOnBlob[.]RecoversThePermutation|MatcherAtAnyScale"
+        skipped="$skipped|LandmarksFileTest[.]TheMatchCommandTakesThemAndRefusesBadOnes"
+        skipped="$skipped|LandmarksOnTwofoldBlob[.]OneLandmarkDecidesBetweenTheTwoRightMaps"
         skipped="$skipped|MeshCleaning[.]CleansSixtyThousandVerticesQuickly" ;;
   *) echo "sanitize: unknown kind '$kind' (asan or tsan)" >&2; exit 2 ;;
 esac
