@@ -33,8 +33,8 @@ std::optional<LandmarkProblem> find_landmark_problem(const std::vector<Landmark>
     if (target_vertices >= 0 && l.target_vertex >= target_vertices)
       return problem(out_of_range("target", l.target_vertex, target_vertices));
     // "source vertex 1 is given two targets, 2 and 5": `earlier` named the vertex first.
-    auto two_partners = [&](const char* side, int vertex, const char* partners, int first, size_t earlier) {
-      const int second = side[0] == 's' ? l.target_vertex : l.source_vertex;
+    auto two_partners = [&](const char* side, int vertex, const char* partners, int first, int second,
+                            size_t earlier) {
       return problem(std::string(side) + " vertex " + std::to_string(vertex) + " is given two " + partners + ", " +
                          std::to_string(first) + " and " + std::to_string(second),
                      earlier);
@@ -47,10 +47,10 @@ std::optional<LandmarkProblem> find_landmark_problem(const std::vector<Landmark>
                      source_seen->second);
     if (source_seen != by_source.end())
       return two_partners("source", l.source_vertex, "targets", landmarks[source_seen->second].target_vertex,
-                          source_seen->second);
+                          l.target_vertex, source_seen->second);
     if (target_seen != by_target.end())
       return two_partners("target", l.target_vertex, "sources", landmarks[target_seen->second].source_vertex,
-                          target_seen->second);
+                          l.source_vertex, target_seen->second);
     by_source.emplace(l.source_vertex, i);
     by_target.emplace(l.target_vertex, i);
   }
