@@ -70,6 +70,10 @@ def _settings_message(settings):
     table = {row["name"]: row for row in _settings_table()}
     message = pb.MatchSettings()
     for name, value in settings.items():
+        if name == "landmarks":  # pairs (source vertex, target vertex), beside the table
+            for source_vertex, target_vertex in np.asarray(value, dtype=np.int64).reshape(-1, 2):
+                message.landmarks.add(source_vertex=int(source_vertex), target_vertex=int(target_vertex))
+            continue
         row = table.get(name)
         if row is None:
             raise ValueError(f"unknown setting '{name}' (isocorr.settings() lists them)")

@@ -1,6 +1,9 @@
 #include "settings_kwargs.h"
 
+#include <pybind11/numpy.h>
+
 #include <algorithm>
+#include <cstdint>
 #include <string>
 
 #include "isocorr/util/error.h"
@@ -47,9 +50,30 @@ std::string setting_text(const SettingField& field, const py::handle& value) {
 
 }  // namespace
 
+// landmarks=: pairs (source vertex, target vertex), an (n, 2) integer array or a list of
+// pairs; the match validates them against the meshes.
+static std::vector<Landmark> landmarks_argument(const py::handle& value) {
+  const auto array = value.cast<py::array_t<int64_t, py::array::c_style | py::array::forcecast>>();
+  if (array.ndim() != 2 || array.shape(1) != 2)
+    throw py::value_error("landmarks must be pairs (source vertex, target vertex): an array of shape (n, 2)");
+  const auto pairs = array.unchecked<2>();
+  std::vector<Landmark> landmarks;
+  for (py::ssize_t i = 0; i < array.shape(0); ++i) {
+    if (pairs(i, 0) < 0 || pairs(i, 1) < 0 || pairs(i, 0) > INT32_MAX || pairs(i, 1) > INT32_MAX)
+      throw py::value_error("landmarks[" + std::to_string(i) + "] is no pair of vertex indices");
+    landmarks.push_back({static_cast<int>(pairs(i, 0)), static_cast<int>(pairs(i, 1))});
+  }
+  return landmarks;
+}
+
 void apply_settings(const py::kwargs& kwargs, const std::vector<SettingScope>& allowed, MatchSettings& settings) {
   for (const auto& [key, value] : kwargs) {
     const std::string name = key.cast<std::string>();
+    if (name == "landmarks" &&
+        std::find(allowed.begin(), allowed.end(), SettingScope::kMatch) != allowed.end()) {
+      settings.landmarks = landmarks_argument(value);
+      continue;
+    }
     const SettingField* field = find_setting(name);
     if (!field) throw py::value_error("unknown setting '" + name + "' (isocorr.settings() lists them)");
     if (std::find(allowed.begin(), allowed.end(), field->scope) == allowed.end())

@@ -65,8 +65,9 @@ def test_arrays_upload_as_a_mesh_and_settings_travel(server, examples):
         name = client.upload((V, F))
         assert name.startswith("meshes/") and client.upload((V, F)) == name
         moved = client.upload(examples / "meshes" / "creature_moved.ply")
-        result = client.match(name, moved, refine="none", min_tracked=8)
+        result = client.match(name, moved, refine="none", min_tracked=8, landmarks=[[0, 5]])
     assert result.report["settings"]["refine"] == "none" and result.report["settings"]["min_tracked"] == 8
+    assert result.report["landmarks"]["count"] == 1 and result.forward[0] == 5
 
 
 def test_bad_requests_are_refused_with_their_reason(server, examples):

@@ -157,3 +157,16 @@ def test_the_match_and_score_example_runs(examples, tmp_path):
                          check=True, capture_output=True, text=True)
     assert "flip-free True" in run.stdout
     assert np.load(out).shape == (len(creature(examples, "creature.ply")[0]),)
+
+
+def test_landmarks_are_kept_and_bad_ones_named(examples):
+    source, target = creature(examples, "creature.ply"), creature(examples, "creature_moved.ply")
+    truth = true_map(examples)
+    landmarks = np.array([[0, truth[0]], [100, truth[100]]])
+    m = isocorr.match(source, target, landmarks=landmarks)
+    assert m.forward[0] == truth[0] and m.forward[100] == truth[100]
+    assert m.report["landmarks"]["count"] == 2
+    with pytest.raises(ValueError, match=r"landmarks\[1\]"):
+        isocorr.match(source, target, landmarks=[[0, truth[0]], [0, truth[5]]])
+    with pytest.raises(ValueError, match="shape"):
+        isocorr.match(source, target, landmarks=[1, 2])
