@@ -28,7 +28,6 @@
 #include "isocorr/mesh/mesh_io.h"
 #include "isocorr/refinement/refinement.h"
 #include "isocorr/transfer/landmarks.h"
-#include "isocorr/transfer/precise_map.h"
 #include "isocorr/util/huge_page_malloc.h"
 #include "settings_flags.h"
 
@@ -134,10 +133,9 @@ PairOutcome run_pair(const std::string& dataset, const BenchmarkPair& pair, Matc
   const MatchResult* results[] = {&as_set, &c2f, &paper};
   for (int i = 0; i < (as_set_only ? 1 : 3); ++i) outcome.variants[i] = score(*results[i], target.mesh, geodesics, diameter, truth, points);
   {
-    const PreciseMap precise = precise_map(source.mesh, target.mesh, as_set.output.forward, settings.threads);
     EvaluationOptions options;
     options.max_points = points;
-    options.precise = &precise;
+    options.precise = &as_set.output.forward_precise;
     outcome.variants[0].d_grd_precise =
         score_against_ground_truth(target.mesh, geodesics, diameter, as_set.output.forward, truth, options).mean_error;
   }

@@ -3,29 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <iterator>
 #include <sstream>
 
 #include "isocorr/mesh/mesh_io.h"
 #include "isocorr/mesh/ply_properties.h"
 #include "isocorr/output/npy_array.h"
 #include "isocorr/util/error.h"
+#include "isocorr/util/file_bytes.h"
 
 namespace isocorr {
 namespace {
-
-std::string read_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot read '" + path + "'");
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void write_bytes(const std::string& path, const std::string& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  if (!out) throw InputError("cannot write '" + path + "'");
-}
 
 // The numbers of one line, or false when a field is not a number.
 bool parse_row(std::string line, std::vector<double>& row) {
@@ -81,7 +68,7 @@ VertexTable read_vertex_table(const std::string& path, const std::vector<std::st
     if (table.rows == 0) throw InputError(path + ": no vertices");
     return table;
   }
-  const std::string bytes = read_bytes(path);
+  const std::string bytes = read_file_bytes(path, "attribute file");
   if (!looks_like_npy(bytes)) return parse_text_table(bytes, path);
   NpyTable npy = parse_npy_table(bytes, path);
   if (npy.rows == 0) throw InputError(path + ": no rows of values");
@@ -89,7 +76,7 @@ VertexTable read_vertex_table(const std::string& path, const std::vector<std::st
 }
 
 void write_vertex_table(const std::string& path, const VertexTable& table) {
-  if (path.ends_with(".npy")) return write_bytes(path, npy_bytes(table.values, table.columns));
+  if (path.ends_with(".npy")) return write_file_bytes(path, npy_bytes(table.values, table.columns), "attribute file");
   const char separator = path.ends_with(".csv") ? ',' : ' ';
   std::string text;
   char number[32];
@@ -101,17 +88,17 @@ void write_vertex_table(const std::string& path, const VertexTable& table) {
       text.append(number, static_cast<size_t>(length));
       text += c + 1 == table.columns ? '\n' : separator;
     }
-  write_bytes(path, text);
+  write_file_bytes(path, text, "attribute file");
 }
 
 void write_labels(const std::string& path, const std::vector<int64_t>& labels) {
   if (path.ends_with(".npy")) {
     std::vector<int> narrow(labels.begin(), labels.end());
-    return write_bytes(path, npy_bytes(narrow));
+    return write_file_bytes(path, npy_bytes(narrow), "labels file");
   }
   std::string text;
   for (const int64_t label : labels) text += std::to_string(label) + '\n';
-  write_bytes(path, text);
+  write_file_bytes(path, text, "labels file");
 }
 
 std::vector<int64_t> labels_of(const VertexTable& table, const std::string& name) {

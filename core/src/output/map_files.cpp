@@ -10,6 +10,7 @@
 
 #include "isocorr/output/npy_array.h"
 #include "isocorr/util/error.h"
+#include "isocorr/util/file_bytes.h"
 
 namespace isocorr {
 namespace {
@@ -27,11 +28,6 @@ bool ends_with(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-void write_bytes(const std::string& path, const std::string& bytes) {
-  auto out = open_for_writing(path, std::ios::binary);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  if (!out) throw InputError("failed writing '" + path + "'");
-}
 
 [[noreturn]] void fail(const std::string& path, const std::string& what) { throw InputError(path + ": " + what); }
 
@@ -121,17 +117,19 @@ void write_map_binary(const std::string& path, const std::vector<int>& map) {
   if (!out) throw InputError("failed writing '" + path + "'");
 }
 
-void write_map_npy(const std::string& path, const std::vector<int>& map) { write_bytes(path, npy_bytes(map)); }
+void write_map_npy(const std::string& path, const std::vector<int>& map) {
+  write_file_bytes(path, npy_bytes(map), "map file");
+}
 
 void write_values(const std::string& path, const std::vector<float>& values) {
-  if (ends_with(path, ".npy")) return write_bytes(path, npy_bytes(values));
+  if (ends_with(path, ".npy")) return write_file_bytes(path, npy_bytes(values), "values file");
   char line[32];
   std::string text;
   for (const float value : values) {
     const int length = std::snprintf(line, sizeof line, "%.6g\n", value);
     text.append(line, static_cast<size_t>(length));
   }
-  write_bytes(path, text);
+  write_file_bytes(path, text, "values file");
 }
 
 void write_map(const std::string& path, const std::vector<int>& map) {
@@ -140,14 +138,7 @@ void write_map(const std::string& path, const std::vector<int>& map) {
   else write_map_text(path, map);
 }
 
-std::vector<int> read_map(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot read map file " + path);
-  std::ostringstream contents;
-  contents << in.rdbuf();
-  if (in.bad()) throw InputError("cannot read map file " + path + ": read error");
-  return parse_map(contents.str(), path);
-}
+std::vector<int> read_map(const std::string& path) { return parse_map(read_file_bytes(path, "map file"), path); }
 
 std::vector<int> parse_map(const std::string& bytes, const std::string& path) {
   if (bytes.starts_with(kBinaryMagic)) return parse_binary_map(bytes, path);

@@ -2,12 +2,11 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <iterator>
 #include <sstream>
 
 #include "isocorr/output/npy_array.h"
 #include "isocorr/util/error.h"
+#include "isocorr/util/file_bytes.h"
 
 namespace isocorr {
 namespace {
@@ -64,15 +63,11 @@ void write_precise_map(const std::string& path, const PreciseMap& map) {
       bytes.append(line, static_cast<size_t>(length));
     }
   }
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  if (!out) throw InputError("cannot write the precise map '" + path + "'");
+  write_file_bytes(path, bytes, "precise map");
 }
 
 PreciseMap read_precise_map(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot read the precise map '" + path + "'");
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string bytes = read_file_bytes(path, "precise map");
   if (!looks_like_npy(bytes)) return parse_text(bytes, path);
   const std::vector<double> rows = parse_npy_rows(bytes, path, kColumns);
   PreciseMap map;
