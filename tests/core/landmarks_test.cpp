@@ -121,9 +121,10 @@ class LandmarksOnTwofoldBlob : public ::testing::Test {
     return static_cast<double>(exact) / forward.size();
   }
 
-  static MatchResult match_with(const std::vector<Landmark>& landmarks) {
+  static MatchResult match_with(const std::vector<Landmark>& landmarks, MatchMethod method = MatchMethod::kFull) {
     MatchSettings settings;
     settings.threads = 2;
+    settings.method = method;
     settings.landmarks = landmarks;
     return match_meshes(*blob_, copy_->mesh, settings);
   }
@@ -174,6 +175,19 @@ TEST_F(LandmarksOnTwofoldBlob, OneLandmarkDecidesBetweenTheTwoRightMaps) {
   EXPECT_GT(share_exact(turned.output.forward, *turned_), 0.95);
   EXPECT_EQ(turned.output.forward[long_tip], copy_->permutation[(*turned_)[long_tip]]);
   EXPECT_EQ(turned.output.reverse[copy_->permutation[(*turned_)[long_tip]]], long_tip);
+}
+
+// With the part methods the part search's map and the complete pipeline's compete on the
+// landmarks first, and the kept one is pinned.
+TEST_F(LandmarksOnTwofoldBlob, TheyDecideAsPartsToo) {
+  const int long_tip = tip(Vec3(1, 0.3, 0.2));
+  for (const MatchMethod method : {MatchMethod::kPart, MatchMethod::kRavac}) {
+    const MatchResult turned = match_with({{long_tip, copy_->permutation[(*turned_)[long_tip]]}}, method);
+    EXPECT_GT(share_exact(turned.output.forward, *turned_), 0.95);
+    EXPECT_EQ(turned.output.forward[long_tip], copy_->permutation[(*turned_)[long_tip]]);
+    EXPECT_EQ(turned.diagnostics.landmarks.count, 1);
+    EXPECT_TRUE(turned.diagnostics.landmarks.honoured);
+  }
 }
 
 TEST_F(LandmarksOnTwofoldBlob, OutOfRangeLandmarksAreInputErrors) {

@@ -5,6 +5,7 @@
 
 #include "isocorr/matching/matcher.h"
 #include "isocorr/partial/part_matching.h"
+#include "isocorr/transfer/landmarks.h"
 #include "isocorr/util/parallel.h"
 
 namespace isocorr {
@@ -43,6 +44,7 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
   const std::string method_name = ravac ? "ravac method" : "part method";
   const std::string search_name = ravac ? "RAVAC search" : "part search";
   DenseMap part = match_part(source, target, settings, result, share_of(0, 0.5));
+  const LandmarkGeometry landmarks(source, target, settings.landmarks);
   // The Laplacian commutativity term assumes both spectra are one shape's: a part's
   // eigenvalues are not the whole's (its functional map to the whole is not near-diagonal),
   // so the complete pipeline runs without it here (FAUST 000 -> 004 with three holes: 0.059,
@@ -56,6 +58,7 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
   } catch (const InputError& e) {
     result.messages.warnings.push_back(method_name + ": the " + search_name +
                                        "'s map kept; the complete pipeline failed: " + e.what());
+    hold_landmarks(landmarks, part, result);
     return part;
   }
   const int threads = resolve_thread_count(control.threads);
@@ -86,8 +89,13 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
   // smaller curvature disagreement wins.
   const bool part_upright = part_evidence.orientation >= settings.orientation_threshold;
   const bool whole_upright = whole_evidence.orientation >= settings.orientation_threshold;
-  const bool whole_wins = whole_upright != part_upright ? whole_upright
-                                                        : whole_evidence.curvature < part_evidence.curvature;
+  // Landmarks come first: a map that sends one beyond kLandmarkTolerance loses to one that
+  // does not (the complete pipeline's was measured before it pinned them).
+  const bool part_holds = landmarks.largest_error(part.forward) <= kLandmarkTolerance;
+  const bool whole_holds = whole_result.diagnostics.landmarks.honoured;
+  const bool whole_wins = part_holds != whole_holds       ? whole_holds
+                          : whole_upright != part_upright ? whole_upright
+                                                          : whole_evidence.curvature < part_evidence.curvature;
   auto describe = [](const char* name, const PartMapEvidence& e) {
     return std::string(name) + " curvature disagreement " + std::to_string(e.curvature) + ", orientation " +
            std::to_string(e.orientation) + ", distortion " + std::to_string(e.distortion) + ", scale " +
@@ -99,9 +107,11 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
   if (!whole_wins) {
     append(result.timings.stages, whole_result.timings.stages);
     result.messages.notes.push_back(why);
+    hold_landmarks(landmarks, part, result);
     return part;
   }
   add_part_reverse_map(source, target, whole_evidence.scale, whole);
+  pin_landmarks(landmarks, whole.forward, whole.reverse);  // the refinement as a part's may have moved them
   // The part search ran first: its timings and remarks come before the complete pipeline's.
   append(result.timings.stages, whole_result.timings.stages);
   append(result.messages.notes, whole_result.messages.notes);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 
 #include "isocorr/util/error.h"
@@ -108,6 +109,23 @@ void pin_landmarks(const LandmarkGeometry& landmarks, std::vector<int>& forward,
     forward[s] = t;
     reverse[t] = s;
   }
+}
+
+void hold_landmarks(const LandmarkGeometry& landmarks, DenseMap& dense, MatchResult& result) {
+  if (landmarks.empty()) return;
+  LandmarkDiagnostics& diagnostics = result.diagnostics.landmarks;
+  diagnostics.count = landmarks.size();
+  diagnostics.chosen_errors = landmarks.errors(dense.forward);
+  diagnostics.honoured = landmarks.largest_error(dense.forward) <= kLandmarkTolerance;
+  if (!diagnostics.honoured) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "landmarks: the chosen map sent a landmark %.3f of the diameter from its partner (tolerance "
+                  "%.2f); each landmark was then sent to its partner",
+                  landmarks.largest_error(dense.forward), kLandmarkTolerance);
+    result.messages.warnings.push_back(text);
+  }
+  pin_landmarks(landmarks, dense.forward, dense.reverse);
 }
 
 }  // namespace isocorr

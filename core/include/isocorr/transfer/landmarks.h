@@ -9,6 +9,8 @@
 //    farther than kLandmarkTolerance from its partner loses to one that does not;
 //  - the refinement: the pairs join ZoomOut's starting pairs, and the final maps send each
 //    landmark to its partner, both ways (pin_landmarks).
+// With the part methods the complete pipeline uses them as above; the part search's map
+// and the complete pipeline's then compete on them first (part_or_whole.cpp).
 // This file holds the geometry they need: validation, the landmarks' geodesic fields, and
 // the measures of agreement.
 #pragma once
@@ -18,6 +20,8 @@
 #include <utility>
 #include <vector>
 
+#include "isocorr/matching/dense_map.h"
+#include "isocorr/output/match_result.h"
 #include "isocorr/settings/match_settings.h"
 #include "isocorr/shape/preprocessed_shape.h"
 
@@ -88,5 +92,9 @@ class LandmarkGeometry {
 // Sends each landmark's source vertex to its target vertex in `forward` and the target
 // vertex back in `reverse` (clean numbering): the user's correspondences hold exactly.
 void pin_landmarks(const LandmarkGeometry& landmarks, std::vector<int>& forward, std::vector<int>& reverse);
+
+// The chosen map measured against the landmarks (result.diagnostics.landmarks, and a warning
+// when one is beyond kLandmarkTolerance), then pinned. Nothing without landmarks.
+void hold_landmarks(const LandmarkGeometry& landmarks, DenseMap& dense, MatchResult& result);
 
 }  // namespace isocorr
