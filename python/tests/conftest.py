@@ -29,11 +29,21 @@ def examples(tmp_path_factory):
     return folder
 
 
+def benchmark_pair(dataset, source, target):
+    """Two meshes of ../shared/data/<dataset>/off; the test is skipped without the data."""
+    folder = SHARED_DATA / dataset / "off"
+    if not (folder / source).exists():
+        pytest.skip(f"no benchmark data at {SHARED_DATA}")
+    return folder / source, folder / target
+
+
 @pytest.fixture(scope="session")
 def faust_pair():
     """A real pair of FAUST meshes (5K vertices), when ../shared/data is present."""
-    folder = SHARED_DATA / "faust_5k" / "off"
-    source, target = folder / "tr_reg_002.off", folder / "tr_reg_007.off"
-    if not source.exists():
-        pytest.skip(f"no benchmark data at {SHARED_DATA}")
-    return source, target
+    return benchmark_pair("faust_5k", "tr_reg_002.off", "tr_reg_007.off")
+
+
+@pytest.fixture(scope="session")
+def scape_mirrored_pair():
+    """SCAPE 007 -> 009 (12.5K vertices, shared numbering): matched as a mirror without help."""
+    return benchmark_pair("scape", "mesh007.off", "mesh009.off")

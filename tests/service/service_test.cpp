@@ -182,6 +182,19 @@ TEST_F(Service, SubmitWatchWaitDownload) {
   const std::string downloaded = bytes_of(precise);
   EXPECT_EQ(downloaded, bytes_of(local_precise));
   EXPECT_EQ(std::count(downloaded.begin(), downloaded.end(), '\n'), static_cast<long>(truth_->size()));
+  // The downloaded precise map carries the target's vertex numbers (as labels) onto the
+  // source: the pair is an exact copy, so each source vertex gets its true partner.
+  const fs::path target_numbers = data_dir() / "target_numbers.txt", pulled = data_dir() / "pulled.txt";
+  {
+    std::ofstream out(target_numbers);
+    for (size_t t = 0; t < truth_->size(); ++t) out << t << '\n';
+  }
+  const CommandRun transfer =
+      run_command(std::string(ISOCORR_CLI_PATH) + " transfer " + path("creature.ply").string() + " " +
+                  path("creature_moved.ply").string() + " " + precise.string() + " --precise --labels --attribute " +
+                  target_numbers.string() + " -o " + pulled.string());
+  ASSERT_EQ(transfer.exit_code, 0) << transfer.err;
+  EXPECT_EQ(read_ints(pulled), *truth_);
   EXPECT_EQ(read_ints(map).size(), truth_->size());
   std::ifstream conf(confidence);
   size_t lines = 0;
