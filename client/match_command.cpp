@@ -18,6 +18,7 @@
 #include "precise_outputs.h"
 #include "progress_printer.h"
 #include "settings_flags.h"
+#include "verdict_line.h"
 
 namespace isocorr::cli {
 namespace {
@@ -96,6 +97,7 @@ int match_locally(const MatchJobFiles& args) {
     if (args.settings.method != MatchMethod::kFull)
       spdlog::info("part matching: {:.1f}% of the target's area matched (reverse map -1 elsewhere), part scale {:.3f}",
                    100 * result.quality.target_matched_share, result.quality.part_scale);
+    log_verdict(result.verdict.status(), result.verdict.reasons);
     return kExitOk;
   } catch (const InputError& e) {
     spdlog::error("{}", with_flag_names(e.what()));  // the engine names settings as the API does

@@ -17,6 +17,7 @@
 #include "remote/remote_commands.h"
 #include "remote/result_download.h"
 #include "remote/rpc_error.h"
+#include "verdict_line.h"
 
 namespace isocorr::cli {
 namespace {
@@ -75,6 +76,7 @@ int run_remote_match(const ConnectionOptions& options, const MatchJobFiles& file
     spdlog::info("matched {} -> {} vertices on the server: D_iso {:.4f}; map written to {}",
                  job.result().source_vertex_count(), job.result().target_vertex_count(), job.result().diso(),
                  files.output);
+    log_verdict(job.result().verdict(), {job.result().verdict_reasons().begin(), job.result().verdict_reasons().end()});
     return static_cast<int>(kExitOk);
   });
 }

@@ -47,11 +47,13 @@ class RemoteError(RuntimeError):
 class RemoteResult:
     """A finished job's result: forward, reverse (int32), confidence, reverse_confidence
     (float32), precise and reverse_precise ((faces, weights) as isocorr.precise_map gives
-    them; None for a result stored before precise maps), report (dict), and the job's name
-    and summary."""
+    them; None for a result stored before precise maps), report (dict), verdict ('ok' or
+    'suspect'; '' for a result stored before verdicts) and verdict_reasons, and the job's
+    name and summary."""
 
     def __init__(self, job, summary, parts):
         self.job, self.summary = job, summary
+        self.verdict, self.verdict_reasons = summary.verdict, list(summary.verdict_reasons)
         self.forward = parts.get(pb.FORWARD_MAP)
         self.reverse = parts.get(pb.REVERSE_MAP)
         self.confidence = parts.get(pb.FORWARD_CONFIDENCE)

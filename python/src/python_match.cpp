@@ -229,6 +229,10 @@ void register_match_class(py::module_& module) {
                              "D_iso of the final map")
       .def_property_readonly("orientation", [](const Match& m) { return m.result.quality.orientation; },
                              "share of source faces whose image keeps its handedness")
+      .def_property_readonly("verdict", [](const Match& m) { return std::string(m.result.verdict.status()); },
+                             "'ok', or 'suspect' when a check of the result failed: look at the map before using it")
+      .def_property_readonly("verdict_reasons", [](const Match& m) { return py::cast(m.result.verdict.reasons); },
+                             "one sentence per failed check (empty when the verdict is 'ok')")
       .def_property_readonly("warnings", [](const Match& m) { return py::cast(m.result.messages.warnings); })
       .def_property_readonly("notes", [](const Match& m) { return py::cast(m.result.messages.notes); })
       .def("__repr__", [](const Match& m) {

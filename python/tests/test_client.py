@@ -55,6 +55,7 @@ def test_a_remote_match_is_the_local_one(server, examples):
     assert remote.confidence.dtype == np.float32 and np.array_equal(remote.confidence, local.confidence)
     assert remote.report["final"]["diso"] == local.report["final"]["diso"]
     assert remote.summary.source_vertex_count == len(local.forward)
+    assert remote.verdict == local.verdict and remote.verdict_reasons == local.verdict_reasons
     for remote_part, local_part in ((remote.precise, local.precise), (remote.reverse_precise, local.reverse_precise)):
         assert np.array_equal(remote_part[0], local_part[0]) and np.array_equal(remote_part[1], local_part[1])
 

@@ -33,6 +33,7 @@ def test_match_recovers_the_known_map(examples):
     assert m.confidence.dtype == np.float32 and m.confidence.shape == m.forward.shape
     assert m.report["final"]["source_vertices"] == len(truth)
     assert 0 < m.diso < 0.05 and m.orientation > 0.9
+    assert m.verdict == "ok" and m.verdict_reasons == [] and m.report["verdict"]["status"] == "ok"
 
 
 def test_same_map_as_the_command_line_byte_for_byte(cli, faust_pair, tmp_path):

@@ -82,6 +82,8 @@ v1::Job job_to_proto(const JobRecord& job) {
       timing->mutable_duration()->set_nanos(static_cast<int32_t>((t.seconds - static_cast<int64_t>(t.seconds)) * 1e9));
     }
     for (const auto& note : s.notes) result->add_notes(note);
+    result->set_verdict(s.verdict);
+    for (const auto& reason : s.verdict_reasons) result->add_verdict_reasons(reason);
   } else if (job.state == JobState::kFailed || job.state == JobState::kCancelled) {
     proto.mutable_error()->set_code(static_cast<int>(job.error_code));
     proto.mutable_error()->set_message(job.error_message);

@@ -59,7 +59,9 @@ json record_to_json(const JobRecord& job) {
             {"tracked_maps", job.summary.tracked_maps},
             {"chosen_level0_rank", job.summary.chosen_level0_rank},
             {"timings", timings},
-            {"notes", job.summary.notes}}}};
+            {"notes", job.summary.notes},
+            {"verdict", job.summary.verdict},
+            {"verdict_reasons", job.summary.verdict_reasons}}}};
 }
 
 JobRecord record_from_json(const json& j) {
@@ -88,6 +90,11 @@ JobRecord record_from_json(const json& j) {
   job.summary.chosen_level0_rank = integer_at<int>(s, "chosen_level0_rank");
   for (const auto& t : s.at("timings")) job.summary.timings.push_back({t.at("stage"), t.at("seconds")});
   job.summary.notes = s.at("notes").get<std::vector<std::string>>();
+  // Records written before verdicts have none: "" says it was never given.
+  if (s.contains("verdict")) {
+    job.summary.verdict = s.at("verdict");
+    job.summary.verdict_reasons = s.at("verdict_reasons").get<std::vector<std::string>>();
+  }
   if (job.state == JobState::kSucceeded) job.progress = {"done", 0, 0, 1.0};
   return job;
 }

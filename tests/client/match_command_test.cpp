@@ -46,9 +46,14 @@ TEST_F(MatchCommand, WritesMapsAndReportThatEvalScores) {
   int exact = 0;
   for (size_t i = 0; i < truth.size(); ++i) exact += forward[i] == truth[i];
   EXPECT_GE(exact, 0.99 * truth.size());
+  // The last line says whether the result may be wrong; an exact copy is a clear choice.
+  const std::string last_line = match.output.substr(match.output.rfind('\n', match.output.size() - 2) + 1);
+  EXPECT_NE(last_line.find("verdict: ok"), std::string::npos) << last_line;
 
   std::ifstream in(report);
   const nlohmann::json json = nlohmann::json::parse(in);
+  EXPECT_EQ(json["verdict"]["status"], "ok");
+  EXPECT_EQ(json["verdict"]["reasons"], nlohmann::json::array());
   EXPECT_GT(json["timings_seconds"]["total"].get<double>(), 0);
   // The refine stage's steps are listed apart, every one of them, and fit within it.
   double steps = 0;

@@ -28,14 +28,6 @@ TEST(DenseChoice, PrefersTheTrueMapToItsMirrorImage) {
   const auto source = PreprocessedShape::build(ellipsoid, spectral_options());
   const auto target = PreprocessedShape::build(copy.mesh, spectral_options());
 
-  auto mirror_of = [&](int v) {
-    const Vec3 reflected(-ellipsoid.vertices[v].x(), ellipsoid.vertices[v].y(), ellipsoid.vertices[v].z());
-    int best = 0;
-    for (int w = 0; w < ellipsoid.num_vertices(); ++w)
-      if ((ellipsoid.vertices[w] - reflected).squaredNorm() < (ellipsoid.vertices[best] - reflected).squaredNorm())
-        best = w;
-    return best;
-  };
   auto nearest_target_sample = [&](int vertex) {
     int best = 0;
     for (int j = 0; j < target->num_samples(); ++j)
@@ -53,7 +45,7 @@ TEST(DenseChoice, PrefersTheTrueMapToItsMirrorImage) {
     for (int which = 0; which < 3; ++which) {
       SamplePair pair;
       pair.source_sample = i;
-      pair.target_vertex = copy.permutation[which == 0 ? mirror_of(v) : v];
+      pair.target_vertex = copy.permutation[which == 0 ? test_support::x_mirror_of(ellipsoid, v) : v];
       pair.target_sample = nearest_target_sample(pair.target_vertex);
       if (which == 2 && i % 4 == 0) pair.target_sample = (pair.target_sample + 1) % target->num_samples();
       tracked[which].pairs.push_back(pair);

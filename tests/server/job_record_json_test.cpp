@@ -23,6 +23,8 @@ JobRecord sample_record() {
   job.summary.timings = {{"dense", 0.5}};
   job.created_by_request = "r42";
   job.settings.landmarks = {{3, 8}, {10, 2}};  // a restarted server reruns the job with them
+  job.summary.verdict = "suspect";
+  job.summary.verdict_reasons = {"a near tie"};
   return job;
 }
 
@@ -38,6 +40,18 @@ TEST(JobRecordJson, RoundTripKeepsEveryStoredField) {
   EXPECT_EQ(back.summary.timings[0].stage, "dense");
   EXPECT_EQ(back.created_by_request, "r42");
   EXPECT_EQ(back.settings.landmarks, sample_record().settings.landmarks);
+  EXPECT_EQ(back.summary.verdict, "suspect");
+  EXPECT_EQ(back.summary.verdict_reasons, std::vector<std::string>{"a near tie"});
+}
+
+// Results stored before verdicts existed come back without one ("" is never a verdict).
+TEST(JobRecordJson, RecordWithoutVerdictIsRead) {
+  nlohmann::json older = record_to_json(sample_record());
+  older["summary"].erase("verdict");
+  older["summary"].erase("verdict_reasons");
+  const JobRecord back = record_from_json(older);
+  EXPECT_EQ(back.summary.verdict, "");
+  EXPECT_TRUE(back.summary.verdict_reasons.empty());
 }
 
 // Records written before jobs kept the request that created them stay readable.

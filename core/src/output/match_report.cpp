@@ -99,6 +99,7 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
                       {"target_vertices_matched", matched},
                       {"search_candidates", candidates}};
   }
+  report["verdict"] = {{"status", result.verdict.status()}, {"reasons", result.verdict.reasons}};
   report["warnings"] = result.messages.warnings;
   report["notes"] = result.messages.notes;
   return report.dump(2);

@@ -17,6 +17,8 @@ MatchSummary MatchResult::summary() const {
   // The API has one list: warnings first.
   s.notes = messages.warnings;
   s.notes.insert(s.notes.end(), messages.notes.begin(), messages.notes.end());
+  s.verdict = verdict.status();
+  s.verdict_reasons = verdict.reasons;
   return s;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "isocorr/diagnosis/verdict.h"
 #include "isocorr/matching/matcher.h"
 #include "isocorr/matching/orientation.h"
 #include "isocorr/mesh/coordinate_normalisation.h"
@@ -76,14 +77,16 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
   const DenseMap dense = settings.method != MatchMethod::kFull
                              ? match_part_or_whole(source, target, settings, result, control)
                              : match_whole(source, target, settings, result, control);
+  StageClock clock(result.timings.stages);
+  measure_quality(source, target, dense, result);
+  result.verdict = diagnose(source, target, result);
+  clock.finish("diagnose");
   const CleanMesh& sc = source.clean();
   const CleanMesh& tc = target.clean();
   to_file_numbering(dense, sc, tc, result);
-  StageClock clock(result.timings.stages);
   result.output.forward_precise = precise_map_in_files(sc, tc, dense.forward, control.threads);
   result.output.reverse_precise = precise_map_in_files(tc, sc, dense.reverse, control.threads);
   clock.finish("precise_maps");
-  measure_quality(source, target, dense, result);
   if (settings.method != MatchMethod::kFull) {
     result.quality.target_matched_share = matched_area_share(vertex_areas(target.mesh()), dense.reverse);
     // Kappa in the files' units: each mesh was normalised by its own power of two.

@@ -93,6 +93,14 @@ struct LandmarkDiagnostics {
   bool honoured = true;      // every one of chosen_errors is within kLandmarkTolerance
 };
 
+// Whether the result may be wrong (diagnosis/verdict.h): the evidence a right map shows,
+// checked after the match. A suspect result deserves a look before it is used.
+struct MatchVerdict {
+  bool suspect = false;
+  std::vector<std::string> reasons;  // one sentence per failed check, with its figure; empty when ok
+  const char* status() const { return suspect ? "suspect" : "ok"; }
+};
+
 struct MatchDiagnostics {
   Level0Diagnostics level0;
   LandmarkDiagnostics landmarks;
@@ -108,6 +116,8 @@ struct MatchSummary {
   int level0_maps = 0, tracked_maps = 0, chosen_level0_rank = 0;
   std::vector<StageTiming> timings;
   std::vector<std::string> notes;  // warnings first
+  std::string verdict;             // "ok" or "suspect"; "" for a result stored before verdicts
+  std::vector<std::string> verdict_reasons;
 };
 
 struct MatchResult {
@@ -116,6 +126,7 @@ struct MatchResult {
   MatchMessages messages;
   MatchTimings timings;
   MatchDiagnostics diagnostics;
+  MatchVerdict verdict;
 
   MatchSummary summary() const;
 };
