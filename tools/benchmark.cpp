@@ -39,12 +39,15 @@ struct RuleOutcome {
   double d_grd = 0, d_grd_max = 0, kim_auc = 0, diso = 0, mirrored = -1;
   double d_grd_precise = -1;  // of the map's precise map (precise_map.h); -1: not measured
   int flip_free = 0, tracked = 0, chosen_rank = 0;
+  int suspect = 0;  // the result's verdict (diagnosis/verdict.h)
 };
 
 // One refined candidate of the "as set" run: its dense evidence and its ground-truth score.
 struct CandidateOutcome {
   double orientation = 0, neighbourhood = 0, distortion = 0, round_trip = 0, signature = 0, curvature = 0, d_grd = 0;
-  int flip_free = 0, chosen = 0, finished = 0;
+  double score = 0;        // choice_score: what the choice minimises
+  double from_chosen = 0;  // mean geodesic distance from the chosen candidate's map, / diameter
+  int flip_free = 0, chosen = 0, finished = 0, mirrored = 0;
 };
 
 struct PairOutcome {
@@ -76,6 +79,7 @@ RuleOutcome score(const MatchResult& result, const TriangleMesh& target, const F
   out.diso = result.quality.diso;
   out.tracked = static_cast<int>(result.diagnostics.tracking.maps.size());
   out.chosen_rank = result.diagnostics.tracking.maps[result.diagnostics.tracking.chosen].level0_rank;
+  out.suspect = result.verdict.suspect;
   return out;
 }
 
@@ -142,13 +146,27 @@ PairOutcome run_pair(const std::string& dataset, const BenchmarkPair& pair, Matc
   if (candidates) {
     EvaluationOptions options;
     options.max_points = points;
-    for (size_t i = 0; i < as_set.diagnostics.refinement.candidates.size(); ++i) {
-      const DenseCandidate& c = as_set.diagnostics.refinement.candidates[i];
+    const auto& refined = as_set.diagnostics.refinement;
+    // The chosen candidate's map as a "truth": how far each other candidate lies from it.
+    GroundTruth chosen_map;
+    if (!refined.candidates.empty()) {
+      chosen_map.target = refined.candidates[refined.chosen].forward;
+      for (size_t v = 0; v < chosen_map.target.size(); ++v) chosen_map.source.push_back(static_cast<int>(v));
+    }
+    for (size_t i = 0; i < refined.candidates.size(); ++i) {
+      const DenseCandidate& c = refined.candidates[i];
       const GroundTruthScore s = score_against_ground_truth(target.mesh, geodesics, diameter, c.forward, truth, options);
-      outcome.candidates.push_back({c.evidence.orientation, c.evidence.neighbourhood_orientation, c.evidence.distortion,
-                                    c.evidence.round_trip, c.evidence.signature_disagreement,
-                                    c.evidence.curvature_disagreement, s.mean_error,
-                                    s.flip_free, static_cast<int>(i) == as_set.diagnostics.refinement.chosen, c.finished});
+      CandidateOutcome o{c.evidence.orientation, c.evidence.neighbourhood_orientation, c.evidence.distortion,
+                         c.evidence.round_trip, c.evidence.signature_disagreement, c.evidence.curvature_disagreement,
+                         s.mean_error};
+      o.score = c.score;
+      o.from_chosen =
+          score_against_ground_truth(target.mesh, geodesics, diameter, c.forward, chosen_map, options).mean_error;
+      o.flip_free = s.flip_free;
+      o.chosen = static_cast<int>(i) == refined.chosen;
+      o.finished = c.finished;
+      o.mirrored = c.mirrored;
+      outcome.candidates.push_back(o);
     }
   }
   outcome.vertices = source.mesh.num_vertices();
@@ -203,12 +221,12 @@ std::string serialise(const PairOutcome& o) {
   out << o.ok << ' ' << o.vertices << ' ' << o.seconds;
   for (const RuleOutcome& r : o.variants)
     out << ' ' << r.d_grd << ' ' << r.d_grd_precise << ' ' << r.d_grd_max << ' ' << r.kim_auc << ' ' << r.diso << ' ' << r.mirrored
-        << ' ' << r.flip_free << ' ' << r.tracked << ' ' << r.chosen_rank;
+        << ' ' << r.flip_free << ' ' << r.tracked << ' ' << r.chosen_rank << ' ' << r.suspect;
   out << ' ' << o.candidates.size();
   for (const CandidateOutcome& c : o.candidates)
     out << ' ' << c.orientation << ' ' << c.neighbourhood << ' ' << c.distortion << ' ' << c.round_trip << ' '
-        << c.signature << ' ' << c.curvature << ' ' << c.d_grd << ' ' << c.flip_free << ' ' << c.chosen << ' '
-        << c.finished;
+        << c.signature << ' ' << c.curvature << ' ' << c.d_grd << ' ' << c.score << ' ' << c.from_chosen << ' '
+        << c.flip_free << ' ' << c.chosen << ' ' << c.finished << ' ' << c.mirrored;
   out << ' ' << o.error;
   return out.str();
 }
@@ -219,13 +237,13 @@ PairOutcome deserialise(const std::string& line) {
   in >> o.ok >> o.vertices >> o.seconds;
   for (RuleOutcome& r : o.variants)
     in >> r.d_grd >> r.d_grd_precise >> r.d_grd_max >> r.kim_auc >> r.diso >> r.mirrored >> r.flip_free >> r.tracked >>
-        r.chosen_rank;
+        r.chosen_rank >> r.suspect;
   size_t count = 0;
   in >> count;
   o.candidates.resize(count);
   for (CandidateOutcome& c : o.candidates)
     in >> c.orientation >> c.neighbourhood >> c.distortion >> c.round_trip >> c.signature >> c.curvature >> c.d_grd >>
-        c.flip_free >> c.chosen >> c.finished;
+        c.score >> c.from_chosen >> c.flip_free >> c.chosen >> c.finished >> c.mirrored;
   std::getline(in >> std::ws, o.error);
   return o;
 }
@@ -262,6 +280,23 @@ PairOutcome run_in_child(const std::string& dataset, const BenchmarkPair& pair, 
   return outcome;
 }
 
+// How well the verdict tells wrong maps (not flip-free) from right ones: recall is the share
+// of wrong maps flagged suspect, precision the share of flagged maps that are wrong.
+void print_verdict_row(const std::vector<PairOutcome>& outcomes, int variant) {
+  int wrong = 0, wrong_flagged = 0, right = 0, right_flagged = 0;
+  for (const auto& o : outcomes) {
+    if (!o.ok) continue;
+    const RuleOutcome& r = o.variants[variant];
+    if (r.flip_free) ++right, right_flagged += r.suspect;
+    else ++wrong, wrong_flagged += r.suspect;
+  }
+  const int flagged = wrong_flagged + right_flagged;
+  std::printf("  %-12s suspect: %d of %d wrong maps (recall %s), %d of %d right maps (%.1f%%); precision %s\n", "",
+              wrong_flagged, wrong, wrong ? std::to_string(100 * wrong_flagged / wrong).append("%").c_str() : "-",
+              right_flagged, right, right ? 100.0 * right_flagged / right : 0.0,
+              flagged ? std::to_string(100 * wrong_flagged / flagged).append("%").c_str() : "-");
+}
+
 void print_rule_row(const char* rule, const std::vector<PairOutcome>& outcomes, int variant) {
   int ok = 0, flip_free = 0;
   double d_grd = 0, d_precise = 0, d_max = 0, auc = 0, diso = 0;
@@ -279,6 +314,7 @@ void print_rule_row(const char* rule, const std::vector<PairOutcome>& outcomes, 
               flip_free ? d_max / flip_free : NAN, auc / ok, diso / ok);
   if (variant == 0 && flip_free && d_precise >= 0) std::printf("  precise D_grd(flip-free) %.4f", d_precise / flip_free);
   std::printf("\n");
+  print_verdict_row(outcomes, variant);
 }
 
 // Per mesh, the pairs of the first variant it takes part in (as source or target): on a
@@ -370,13 +406,15 @@ int main(int argc, char** argv) {
           std::printf(" | %s: %s D_grd %.4f", labels[i], o.variants[i].flip_free ? "ok  " : "FLIP", o.variants[i].d_grd);
           if (o.variants[i].d_grd_precise >= 0) std::printf(" precise %.4f", o.variants[i].d_grd_precise);
           if (!run.from_truth) std::printf(" #%d", o.variants[i].chosen_rank + 1);  // the tracked map's level-0 rank
+          if (o.variants[i].suspect) std::printf(" SUSPECT");
         }
         std::printf("\n");
         for (const CandidateOutcome& c : o.candidates)
-          std::printf("    candidate%s %s orientation %.3f neighbourhood %.3f distortion %.4f round trip %.4f"
-                      " signature %.4f curvature %.4f | %s D_grd %.4f\n", c.chosen ? "*" : " ",
-                      c.finished ? "finished" : "raw     ", c.orientation, c.neighbourhood, c.distortion, c.round_trip,
-                      c.signature, c.curvature, c.flip_free ? "ok  " : "FLIP", c.d_grd);
+          std::printf("    candidate%s %s%s orientation %.3f neighbourhood %.3f distortion %.4f round trip %.4f"
+                      " signature %.4f curvature %.4f score %.5f from chosen %.4f | %s D_grd %.4f\n",
+                      c.chosen ? "*" : " ", c.finished ? "finished" : "raw     ", c.mirrored ? " mirrored" : "",
+                      c.orientation, c.neighbourhood, c.distortion, c.round_trip, c.signature, c.curvature, c.score,
+                      c.from_chosen, c.flip_free ? "ok  " : "FLIP", c.d_grd);
         scaling.push_back({o.vertices, o.seconds});
       } else {
         std::printf("%-14s %-12s -> %-12s FAILED: %s\n", name.c_str(), stem(pair.source_path).c_str(),
