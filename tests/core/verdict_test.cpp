@@ -63,7 +63,7 @@ TEST_F(VerdictOnEllipsoid, ANearTieWithADifferentMapIsSuspect) {
   const MatchVerdict tie = diagnose(*source_, *target_, chosen_over(mirror_, 1.02));
   EXPECT_TRUE(tie.suspect);
   ASSERT_EQ(tie.reasons.size(), 1u);
-  EXPECT_NE(tie.reasons[0].find("within 2.0% of the chosen one"), std::string::npos) << tie.reasons[0];
+  EXPECT_NE(tie.reasons[0].find("scored 2.0% above the chosen one"), std::string::npos) << tie.reasons[0];
   EXPECT_STREQ(tie.status(), "suspect");
 
   const MatchVerdict clear = diagnose(*source_, *target_, chosen_over(mirror_, 1.2));

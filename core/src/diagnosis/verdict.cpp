@@ -21,28 +21,17 @@ std::string sentence(const char* format, Args... args) {
 // The closest distinct competitor of the chosen refined candidate, if any is close.
 void check_competitors(const PreprocessedShape& source, const PreprocessedShape& target,
                        const RefinementDiagnostics& refinement, MatchVerdict& verdict) {
-  if (refinement.candidates.size() < 2) return;
+  const std::vector<int> close = close_competitors(source, target, refinement.candidates, refinement.chosen);
+  if (close.empty()) return;
   const DenseCandidate& chosen = refinement.candidates[refinement.chosen];
-  if (chosen.score <= 0) return;
-  int closest = -1;
-  double closest_margin = 0, closest_separation = 0;
-  for (int i = 0; i < static_cast<int>(refinement.candidates.size()); ++i) {
-    const DenseCandidate& c = refinement.candidates[i];
-    if (i == refinement.chosen || c.mirrored || c.landmark_error > kLandmarkTolerance) continue;
-    const double margin = c.score / chosen.score - 1;
-    if (margin >= kCloseCompetitorMargin || (closest >= 0 && margin >= closest_margin)) continue;
-    const double separation = map_separation(source, target, c.forward, chosen.forward);
-    if (separation < kDistinctMapSeparation) continue;
-    closest = i, closest_margin = margin, closest_separation = separation;
-  }
-  if (closest < 0) return;
-  const DenseCandidate& c = refinement.candidates[closest];
-  verdict.reasons.push_back(
-      sentence("a different map (refined candidate %d, %.2f of the diameter away on average, keeping the handedness "
-               "of %.2f of the faces against the chosen map's %.2f) scored within %.1f%% of the chosen one: the choice "
-               "was a near tie",
-               closest, closest_separation, c.evidence.orientation, chosen.evidence.orientation,
-               100 * std::max(0.0, closest_margin)));
+  const DenseCandidate& c = refinement.candidates[close.front()];
+  const double margin = c.score / chosen.score - 1;
+  verdict.reasons.push_back(sentence(
+      "a different map (refined candidate %d, %.2f of the diameter away on average, keeping the handedness of %.2f of "
+      "the faces against the chosen map's %.2f) scored %.1f%% %s the chosen one: the choice was a near tie%s",
+      close.front(), map_separation(source, target, c.forward, chosen.forward), c.evidence.orientation,
+      chosen.evidence.orientation, 100 * std::abs(margin), margin >= 0 ? "above" : "below",
+      chosen.reverse_score > 0 ? ", decided by both directions' evidence" : ""));
 }
 
 }  // namespace
@@ -61,6 +50,25 @@ double map_separation(const PreprocessedShape& source, const PreprocessedShape& 
     sum += largest;
   }
   return sum / samples.size();
+}
+
+std::vector<int> close_competitors(const PreprocessedShape& source, const PreprocessedShape& target,
+                                   const std::vector<DenseCandidate>& candidates, int chosen) {
+  std::vector<std::pair<double, int>> close;
+  if (chosen < 0 || chosen >= static_cast<int>(candidates.size()) || candidates[chosen].score <= 0) return {};
+  const DenseCandidate& winner = candidates[chosen];
+  for (int i = 0; i < static_cast<int>(candidates.size()); ++i) {
+    const DenseCandidate& c = candidates[i];
+    if (i == chosen || c.mirrored || c.landmark_error > kLandmarkTolerance) continue;
+    const double margin = c.score / winner.score - 1;
+    if (margin >= kCloseCompetitorMargin) continue;
+    if (map_separation(source, target, c.forward, winner.forward) < kDistinctMapSeparation) continue;
+    close.push_back({margin, i});
+  }
+  std::sort(close.begin(), close.end());
+  std::vector<int> indices;
+  for (const auto& [margin, i] : close) indices.push_back(i);
+  return indices;
 }
 
 MatchVerdict diagnose(const PreprocessedShape& source, const PreprocessedShape& target, const MatchResult& result) {

@@ -54,6 +54,7 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
                          {"distortion_max", c.evidence.distortion_max},
                          {"round_trip", c.evidence.round_trip},
                          {"score", c.score},
+                         {"reverse_score", c.reverse_score},
                          {"mirrored", c.mirrored},
                          {"finished", c.finished}});
     json screened = json::array();

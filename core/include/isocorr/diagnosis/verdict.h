@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "isocorr/output/match_result.h"
+#include "isocorr/refinement/dense_choice.h"
 #include "isocorr/shape/preprocessed_shape.h"
 
 namespace isocorr {
@@ -33,6 +34,12 @@ inline constexpr double kDistinctMapSeparation = 0.05;
 // 1-Lipschitz, so this never exceeds the geodesic distance).
 double map_separation(const PreprocessedShape& source, const PreprocessedShape& target, const std::vector<int>& a,
                       const std::vector<int>& b);
+
+// The candidates other than `chosen` that keep handedness, honour the landmarks, scored
+// within kCloseCompetitorMargin of it and lie at least kDistinctMapSeparation from it
+// (clean numbering), closest in score first.
+std::vector<int> close_competitors(const PreprocessedShape& source, const PreprocessedShape& target,
+                                   const std::vector<DenseCandidate>& candidates, int chosen);
 
 // The verdict on `result` (candidates still in clean numbering: called before the maps are
 // put in the files' numbering).

@@ -68,6 +68,9 @@ struct DenseCandidate {
   int tracked_index = 0;  // which tracked map it was refined from
   DenseEvidence evidence;
   double score = 0;       // choice_score(evidence) (lower wins)
+  // choice_score of its reverse map measured from the target, when a near tie was decided
+  // by both directions (refinement.h); 0 when not measured.
+  double reverse_score = 0;
   bool mirrored = false;  // orientation below mirror_threshold: not eligible
   // The largest distance from a landmark's image to its partner (transfer/landmarks.h), 0
   // without landmarks; above kLandmarkTolerance the candidate loses to any within it.
