@@ -50,12 +50,24 @@ struct CandidateOutcome {
   int flip_free = 0, chosen = 0, finished = 0, mirrored = 0;
 };
 
+// What each pair runs and prints.
+struct RunOptions {
+  int points = 1000;
+  bool as_set_only = false;  // skip the C2F and paper variants
+  bool candidates = false;   // score every refined candidate too
+  bool from_truth = false;   // the refinement alone, from the ground truth (implies as_set_only)
+  int truth_landmarks = 0;   // landmarks per pair taken from the ground truth
+  bool profile = false;      // each stage's wall and CPU time and the peak memory, and the pair again with its shapes cached
+};
+
 struct PairOutcome {
   bool ok = false;
   int vertices = 0;
   double seconds = 0, peak_mb = 0;
   std::array<RuleOutcome, 3> variants;  // as set, C2F only, paper
   std::vector<CandidateOutcome> candidates;  // with --candidates
+  std::vector<StageTiming> stages;  // with --profile: the match's stages, the refine stage's steps after it
+  double cached_seconds = -1;       // with --profile: the match again on the same preprocessed shapes
   std::string error;
 };
 
@@ -108,22 +120,34 @@ std::vector<Landmark> landmarks_from_truth(const PreprocessedShape& source, cons
 }
 
 // Runs in the child: the whole job as a user would run it, then scoring (not timed).
-PairOutcome run_pair(const std::string& dataset, const BenchmarkPair& pair, MatchSettings settings, int points,
-                     bool as_set_only, bool candidates, int truth_landmarks) {
+PairOutcome run_pair(const std::string& dataset, const BenchmarkPair& pair, MatchSettings settings,
+                     const RunOptions& run) {
+  const int points = run.points;
   PairOutcome outcome;
   const auto start = std::chrono::steady_clock::now();
   const LoadedMesh source = load_mesh(pair.source_path);
   const LoadedMesh target = load_mesh(pair.target_path);
   MeshPairShapes shapes(source.mesh, target.mesh);  // the other variants reuse the preprocessing
-  if (truth_landmarks > 0)
+  if (run.truth_landmarks > 0)
     settings.landmarks =
         landmarks_from_truth(*shapes.shape(ShapeRole::kSource, settings.preprocess, {}),
                              load_ground_truth(dataset, pair, source.mesh.num_vertices(), target.mesh.num_vertices()),
-                             truth_landmarks);
+                             run.truth_landmarks);
   const MatchResult as_set = run_match(shapes, settings);
   outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (run.profile) {
+    outcome.stages = as_set.timings.stages;
+    for (StageTiming step : as_set.timings.refine_steps) {
+      step.stage = "refine/" + step.stage;
+      outcome.stages.push_back(step);
+    }
+    // What a server that has both shapes cached runs: the per-pair work alone.
+    const auto again = std::chrono::steady_clock::now();
+    run_match(shapes, settings);
+    outcome.cached_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - again).count();
+  }
   MatchResult c2f, paper;
-  if (!as_set_only) {
+  if (!run.as_set_only) {
     settings.refine = RefineMethod::kNone;
     c2f = run_match(shapes, settings);
     settings.selection = SelectionRule::kLeastDistortion;
@@ -135,7 +159,7 @@ PairOutcome run_pair(const std::string& dataset, const BenchmarkPair& pair, Matc
   const FastMarching geodesics(target.mesh, topology);
   const double diameter = estimate_geodesic_diameter(geodesics);
   const MatchResult* results[] = {&as_set, &c2f, &paper};
-  for (int i = 0; i < (as_set_only ? 1 : 3); ++i) outcome.variants[i] = score(*results[i], target.mesh, geodesics, diameter, truth, points);
+  for (int i = 0; i < (run.as_set_only ? 1 : 3); ++i) outcome.variants[i] = score(*results[i], target.mesh, geodesics, diameter, truth, points);
   {
     EvaluationOptions options;
     options.max_points = points;
@@ -143,7 +167,7 @@ PairOutcome run_pair(const std::string& dataset, const BenchmarkPair& pair, Matc
     outcome.variants[0].d_grd_precise =
         score_against_ground_truth(target.mesh, geodesics, diameter, as_set.output.forward, truth, options).mean_error;
   }
-  if (candidates) {
+  if (run.candidates) {
     EvaluationOptions options;
     options.max_points = points;
     const auto& refined = as_set.diagnostics.refinement;
@@ -206,14 +230,6 @@ PairOutcome run_pair_from_truth(const std::string& dataset, const BenchmarkPair&
   return outcome;
 }
 
-// What each pair runs and prints.
-struct RunOptions {
-  int points = 1000;
-  bool as_set_only = false;  // skip the C2F and paper variants
-  bool candidates = false;   // score every refined candidate too
-  bool from_truth = false;   // the refinement alone, from the ground truth (implies as_set_only)
-  int truth_landmarks = 0;   // landmarks per pair taken from the ground truth
-};
 
 std::string serialise(const PairOutcome& o) {
   std::ostringstream out;
@@ -227,6 +243,9 @@ std::string serialise(const PairOutcome& o) {
     out << ' ' << c.orientation << ' ' << c.neighbourhood << ' ' << c.distortion << ' ' << c.round_trip << ' '
         << c.signature << ' ' << c.curvature << ' ' << c.d_grd << ' ' << c.score << ' ' << c.from_chosen << ' '
         << c.flip_free << ' ' << c.chosen << ' ' << c.finished << ' ' << c.mirrored;
+  out << ' ' << o.stages.size();
+  for (const StageTiming& t : o.stages) out << ' ' << t.stage << ' ' << t.seconds << ' ' << t.cpu_seconds << ' ' << t.peak_mb;
+  out << ' ' << o.cached_seconds;
   out << ' ' << o.error;
   return out.str();
 }
@@ -244,6 +263,10 @@ PairOutcome deserialise(const std::string& line) {
   for (CandidateOutcome& c : o.candidates)
     in >> c.orientation >> c.neighbourhood >> c.distortion >> c.round_trip >> c.signature >> c.curvature >> c.d_grd >>
         c.score >> c.from_chosen >> c.flip_free >> c.chosen >> c.finished >> c.mirrored;
+  in >> count;
+  o.stages.resize(count);
+  for (StageTiming& t : o.stages) in >> t.stage >> t.seconds >> t.cpu_seconds >> t.peak_mb;
+  in >> o.cached_seconds;
   std::getline(in >> std::ws, o.error);
   return o;
 }
@@ -251,15 +274,18 @@ PairOutcome deserialise(const std::string& line) {
 PairOutcome run_in_child(const std::string& dataset, const BenchmarkPair& pair, const MatchSettings& settings,
                          const RunOptions& run) {
   int fds[2];
-  if (pipe(fds) != 0) return {false, 0, 0, 0, {}, {}, "pipe failed"};
+  if (pipe(fds) != 0) {
+    PairOutcome failed;
+    failed.error = "pipe failed";
+    return failed;
+  }
   const pid_t pid = fork();
   if (pid == 0) {
     close(fds[0]);
     PairOutcome outcome;
     try {
       outcome = run.from_truth ? run_pair_from_truth(dataset, pair, settings, run.points)
-                               : run_pair(dataset, pair, settings, run.points, run.as_set_only, run.candidates,
-                                          run.truth_landmarks);
+                               : run_pair(dataset, pair, settings, run);
     } catch (const std::exception& e) {
       outcome.error = e.what();
     }
@@ -275,9 +301,44 @@ PairOutcome run_in_child(const std::string& dataset, const BenchmarkPair& pair, 
   int status = 0;
   struct rusage usage {};
   wait4(pid, &status, 0, &usage);
-  PairOutcome outcome = line.empty() ? PairOutcome{false, 0, 0, 0, {}, {}, "child died"} : deserialise(line);
+  PairOutcome outcome;
+  if (line.empty()) outcome.error = "child died";
+  else outcome = deserialise(line);
   outcome.peak_mb = usage.ru_maxrss / 1024.0;
   return outcome;
+}
+
+// One pair's stages: wall and CPU seconds, and the process's peak memory once each ended
+// (the two preprocessings run at once: the target's time is what was left of it).
+void print_profile(const PairOutcome& o) {
+  for (const StageTiming& t : o.stages)
+    std::printf("    stage %-34s %7.2f s wall %7.2f s CPU  peak %6.0f MB\n", t.stage.c_str(), t.seconds, t.cpu_seconds,
+                t.peak_mb);
+  if (o.cached_seconds >= 0) std::printf("    with both shapes cached: %.2f s\n", o.cached_seconds);
+}
+
+// Per stage, the mean over a set's pairs; and the mean time of a cached pair.
+void print_profile_means(const std::vector<PairOutcome>& outcomes) {
+  std::vector<std::string> order;
+  std::map<std::string, std::array<double, 3>> sums;  // wall, CPU, pairs
+  double cached = 0;
+  int pairs = 0;
+  for (const auto& o : outcomes) {
+    if (!o.ok) continue;
+    ++pairs;
+    cached += o.cached_seconds;
+    for (const StageTiming& t : o.stages) {
+      if (!sums.count(t.stage)) order.push_back(t.stage);
+      auto& sum = sums[t.stage];
+      sum[0] += t.seconds, sum[1] += t.cpu_seconds, sum[2] += 1;
+    }
+  }
+  if (!pairs) return;
+  std::printf("  profile (mean per pair): with both shapes cached %.2f s\n", cached / pairs);
+  for (const std::string& stage : order) {
+    const auto& sum = sums[stage];
+    std::printf("    %-34s %7.3f s wall %7.3f s CPU\n", stage.c_str(), sum[0] / sum[2], sum[1] / sum[2]);
+  }
 }
 
 // How well the verdict tells wrong maps (not flip-free) from right ones: recall is the share
@@ -366,6 +427,9 @@ int main(int argc, char** argv) {
   bool by_mesh = false;
   app.add_flag("--by-mesh", by_mesh, "after each dataset, the mean error of the pairs each mesh takes part in, worst first");
   app.add_flag("--candidates", run.candidates, "print every refined candidate's dense evidence and ground-truth score");
+  app.add_flag("--profile", run.profile,
+               "print each stage's wall and CPU seconds and the peak memory after it, and time the pair again with "
+               "both shapes preprocessed (a server's cached pair)");
   app.add_flag("--from-truth", run.from_truth,
                "refine from the ground-truth correspondences instead of the tracked maps (the error the "
                "refinement adds by itself; implies --as-set-only)");
@@ -415,6 +479,7 @@ int main(int argc, char** argv) {
                       c.chosen ? "*" : " ", c.finished ? "finished" : "raw     ", c.mirrored ? " mirrored" : "",
                       c.orientation, c.neighbourhood, c.distortion, c.round_trip, c.signature, c.curvature, c.score,
                       c.from_chosen, c.flip_free ? "ok  " : "FLIP", c.d_grd);
+        if (run.profile) print_profile(o);
         scaling.push_back({o.vertices, o.seconds});
       } else {
         std::printf("%-14s %-12s -> %-12s FAILED: %s\n", name.c_str(), stem(pair.source_path).c_str(),
@@ -430,6 +495,7 @@ int main(int argc, char** argv) {
       if (o.ok) ++ok, seconds += o.seconds, peak = std::max(peak, o.peak_mb);
     std::printf("== %s: %d pairs, %.2f s per pair, peak %.0f MB\n", name.c_str(), ok, ok ? seconds / ok : 0.0, peak);
     print_rule_row(first_label, outcomes, 0);
+    if (run.profile) print_profile_means(outcomes);
     if (by_mesh) print_by_mesh(names, outcomes);
     if (run.as_set_only) continue;
     print_rule_row("C2F only", outcomes, 1);
