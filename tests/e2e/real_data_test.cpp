@@ -125,6 +125,17 @@ TEST_F(RealData, Faust5kPairThatC2FMirrorsIsRight) {
   EXPECT_LT(score.mean_error, 0.015);
 }
 
+// SCAPE 000 -> 001 without a geodesic ball (the part benchmark's 70% ball, 66% of the area
+// kept): the part search's map and the complete pipeline's compete on curvature times the
+// cube root of distortion, and the part search's wins: 0.0075 measured, against 0.019 when
+// curvature alone chose the complete pipeline's.
+TEST_F(RealData, ScapePartWithoutABallIsChosenByCurvatureAndDistortion) {
+  const GroundTruthScore score =
+      match_part_and_score("scape", "off/mesh000.off", "off/mesh001.off", {CutKind::kGeodesicBall, 0.7, 1, 1});
+  EXPECT_TRUE(score.flip_free) << score.flip_rule;
+  EXPECT_LT(score.mean_error, 0.012);
+}
+
 // A real body with three holes (80% of the area kept: the part benchmark's holes cut),
 // matched as a part: 0.013 measured. Before the part's curvature was compared at the whole's
 // lengths the choice kept a map with 11% of its points nearer their mirror image (0.048).

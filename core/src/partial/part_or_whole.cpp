@@ -1,5 +1,6 @@
 #include "isocorr/partial/part_or_whole.h"
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -16,15 +17,24 @@ void append(std::vector<T>& to, const std::vector<T>& more) {
   to.insert(to.end(), more.begin(), more.end());
 }
 
+// What the part-or-whole choice minimises: choice_score (dense_choice.h) of the evidence.
+double part_choice_score(const PartMapEvidence& evidence) {
+  return evidence.curvature * std::cbrt(evidence.distortion);
+}
+
 }  // namespace
 
 // method = part or ravac: the part search or RAVAC (part_matching.h) and the complete
-// pipeline both match the part, and the map whose smoothed curvature agrees better wins
-// (mirrors, reversing most faces, lose first). They are right on different cuts (isocorr-bench-partial on faust_5k,
-// scape, tosca_isometric_5k): the complete pipeline on parts that lost holes or a 30% ball,
-// whose spectrum barely moves, the part search on half bodies. Curvature picked the right one
-// on every cut where one was right; the boundary-aware distortion never picked the complete
-// pipeline's map, as the part search's maps are fitted to that very measure.
+// pipeline both match the part, and the map with the lesser curvature disagreement times
+// the cube root of distortion wins, the score of the complete pipeline's own dense choice
+// (landmarks first, then mirrors, reversing most faces, lose). They are right on different
+// cuts (isocorr-bench-partial on faust_5k, scape, tosca_isometric_5k): the complete pipeline
+// on parts that lost holes or a 30% ball, whose spectrum barely moves, the part search on
+// half bodies. Distortion alone never picked the complete pipeline's map, as the part
+// search's maps are fitted to that very measure; curvature alone picked a turned body on
+// FAUST 002 -> 007's 70% ball (10% less curvature disagreement, twice the distortion). With
+// the cube root: 32 -> 33 of the 36 cuts right, SCAPE 000 -> 001's 66% ball 0.019 -> 0.0075,
+// no cut worse by more than 0.0001.
 DenseMap match_part_or_whole(const PreprocessedShape& source, const PreprocessedShape& target,
                              const MatchSettings& settings, MatchResult& result, const JobControl& control) {
   // The two share the match's progress: the part search its first half, the complete
@@ -95,7 +105,7 @@ DenseMap match_part_or_whole(const PreprocessedShape& source, const Preprocessed
   const bool whole_holds = whole_result.diagnostics.landmarks.honoured;
   const bool whole_wins = part_holds != whole_holds       ? whole_holds
                           : whole_upright != part_upright ? whole_upright
-                                                          : whole_evidence.curvature < part_evidence.curvature;
+                                                          : part_choice_score(whole_evidence) < part_choice_score(part_evidence);
   auto describe = [](const char* name, const PartMapEvidence& e) {
     return std::string(name) + " curvature disagreement " + std::to_string(e.curvature) + ", orientation " +
            std::to_string(e.orientation) + ", distortion " + std::to_string(e.distortion) + ", scale " +
