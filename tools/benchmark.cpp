@@ -21,6 +21,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "isocorr/diagnosis/map_tearing.h"
 #include "isocorr/eval/ground_truth.h"
 #include "isocorr/eval/metrics.h"
 #include "isocorr/geodesic/geodesic_diameter.h"
@@ -45,6 +46,8 @@ struct RuleOutcome {
 // One refined candidate of the "as set" run: its dense evidence and its ground-truth score.
 struct CandidateOutcome {
   double orientation = 0, neighbourhood = 0, distortion = 0, round_trip = 0, signature = 0, curvature = 0, d_grd = 0;
+  double distortion_max = 0;  // the largest mean distortion from one sample
+  int torn_pairs = 0, torn_samples = 0;  // measure_map_tearing (diagnosis/map_tearing.h)
   double score = 0;        // choice_score: what the choice minimises
   double from_chosen = 0;  // mean geodesic distance from the chosen candidate's map, / diameter
   int flip_free = 0, chosen = 0, finished = 0, mirrored = 0;
@@ -177,13 +180,21 @@ PairOutcome run_pair(const std::string& dataset, const BenchmarkPair& pair, Matc
       chosen_map.target = refined.candidates[refined.chosen].forward;
       for (size_t v = 0; v < chosen_map.target.size(); ++v) chosen_map.source.push_back(static_cast<int>(v));
     }
+    const auto source_shape = shapes.shape(ShapeRole::kSource, settings.preprocess, {});
+    const auto target_shape = shapes.shape(ShapeRole::kTarget, settings.preprocess, {});
     for (size_t i = 0; i < refined.candidates.size(); ++i) {
       const DenseCandidate& c = refined.candidates[i];
+      std::vector<int> clean_forward(source_shape->mesh().num_vertices());
+      for (size_t v = 0; v < clean_forward.size(); ++v)
+        clean_forward[v] = target_shape->clean().input_to_clean[c.forward[source_shape->clean().clean_to_input[v]]];
+      const MapTearing tearing = measure_map_tearing(*source_shape, *target_shape, clean_forward);
       const GroundTruthScore s = score_against_ground_truth(target.mesh, geodesics, diameter, c.forward, truth, options);
       CandidateOutcome o{c.evidence.orientation, c.evidence.neighbourhood_orientation, c.evidence.distortion,
                          c.evidence.round_trip, c.evidence.signature_disagreement, c.evidence.curvature_disagreement,
                          s.mean_error};
       o.score = c.score;
+      o.distortion_max = c.evidence.distortion_max;
+      o.torn_pairs = tearing.torn_pairs, o.torn_samples = tearing.torn_samples;
       o.from_chosen =
           score_against_ground_truth(target.mesh, geodesics, diameter, c.forward, chosen_map, options).mean_error;
       o.flip_free = s.flip_free;
@@ -242,7 +253,7 @@ std::string serialise(const PairOutcome& o) {
   for (const CandidateOutcome& c : o.candidates)
     out << ' ' << c.orientation << ' ' << c.neighbourhood << ' ' << c.distortion << ' ' << c.round_trip << ' '
         << c.signature << ' ' << c.curvature << ' ' << c.d_grd << ' ' << c.score << ' ' << c.from_chosen << ' '
-        << c.flip_free << ' ' << c.chosen << ' ' << c.finished << ' ' << c.mirrored;
+        << c.flip_free << ' ' << c.chosen << ' ' << c.finished << ' ' << c.mirrored << ' ' << c.distortion_max << ' ' << c.torn_pairs << ' ' << c.torn_samples;
   out << ' ' << o.stages.size();
   for (const StageTiming& t : o.stages) out << ' ' << t.stage << ' ' << t.seconds << ' ' << t.cpu_seconds << ' ' << t.peak_mb;
   out << ' ' << o.cached_seconds;
@@ -262,7 +273,7 @@ PairOutcome deserialise(const std::string& line) {
   o.candidates.resize(count);
   for (CandidateOutcome& c : o.candidates)
     in >> c.orientation >> c.neighbourhood >> c.distortion >> c.round_trip >> c.signature >> c.curvature >> c.d_grd >>
-        c.score >> c.from_chosen >> c.flip_free >> c.chosen >> c.finished >> c.mirrored;
+        c.score >> c.from_chosen >> c.flip_free >> c.chosen >> c.finished >> c.mirrored >> c.distortion_max >> c.torn_pairs >> c.torn_samples;
   in >> count;
   o.stages.resize(count);
   for (StageTiming& t : o.stages) in >> t.stage >> t.seconds >> t.cpu_seconds >> t.peak_mb;
@@ -474,10 +485,10 @@ int main(int argc, char** argv) {
         }
         std::printf("\n");
         for (const CandidateOutcome& c : o.candidates)
-          std::printf("    candidate%s %s%s orientation %.3f neighbourhood %.3f distortion %.4f round trip %.4f"
-                      " signature %.4f curvature %.4f score %.5f from chosen %.4f | %s D_grd %.4f\n",
+          std::printf("    candidate%s %s%s orientation %.3f neighbourhood %.3f distortion %.4f (max %.4f) round trip %.4f"
+                      " torn pairs %d samples %d signature %.4f curvature %.4f score %.5f from chosen %.4f | %s D_grd %.4f\n",
                       c.chosen ? "*" : " ", c.finished ? "finished" : "raw     ", c.mirrored ? " mirrored" : "",
-                      c.orientation, c.neighbourhood, c.distortion, c.round_trip, c.signature, c.curvature, c.score,
+                      c.orientation, c.neighbourhood, c.distortion, c.distortion_max, c.round_trip, c.torn_pairs, c.torn_samples, c.signature, c.curvature, c.score,
                       c.from_chosen, c.flip_free ? "ok  " : "FLIP", c.d_grd);
         if (run.profile) print_profile(o);
         scaling.push_back({o.vertices, o.seconds});

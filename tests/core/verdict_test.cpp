@@ -1,9 +1,11 @@
 // The verdict on a result: a near tie between two different maps, a map that reverses
-// handedness, and landmarks left unhonoured make it suspect; a clear choice does not.
+// handedness, a map that tears the surface and landmarks left unhonoured make it suspect; a
+// clear choice does not.
 #include "isocorr/diagnosis/verdict.h"
 
 #include <gtest/gtest.h>
 
+#include "isocorr/diagnosis/map_tearing.h"
 #include "isocorr/mesh/procedural_meshes.h"
 #include "isocorr/refinement/dense_choice.h"
 #include "spectral_test_shapes.h"
@@ -88,6 +90,43 @@ TEST_F(VerdictOnEllipsoid, ReversedHandednessAndUnhonouredLandmarksAreSuspect) {
   const MatchVerdict landmarks = diagnose(*source_, *target_, off);
   EXPECT_TRUE(landmarks.suspect);
   EXPECT_NE(landmarks.reasons.at(0).find("landmarks"), std::string::npos);
+}
+
+TEST_F(VerdictOnEllipsoid, AMapWithARegionSentToTheOtherEndTearsAndIsSuspect) {
+  // The true map, except that the end beyond y = 1 (of 1.6) is sent to the other end (the image of
+  // the point opposite): right inside the region and outside it, torn along its border.
+  std::vector<int> region_moved = truth_;
+  const CleanMesh& clean = source_->clean();
+  double top = 0;  // the clean mesh's coordinates are normalised
+  for (const Vec3& p : clean.mesh.vertices) top = std::max(top, p.y());
+  for (int c = 0; c < clean.mesh.num_vertices(); ++c) {
+    if (clean.mesh.vertices[c].y() <= top / 1.6) continue;
+    int opposite = 0;
+    for (int w = 0; w < clean.mesh.num_vertices(); ++w)
+      if ((clean.mesh.vertices[w] + clean.mesh.vertices[c]).squaredNorm() <
+          (clean.mesh.vertices[opposite] + clean.mesh.vertices[c]).squaredNorm())
+        opposite = w;
+    region_moved[c] = truth_[opposite];
+  }
+
+  const MapTearing right = measure_map_tearing(*source_, *target_, truth_);
+  EXPECT_GT(right.pairs, 0);
+  EXPECT_EQ(right.torn_pairs, 0);
+  const MapTearing torn = measure_map_tearing(*source_, *target_, region_moved);
+  EXPECT_EQ(torn.pairs, right.pairs);
+  EXPECT_GT(torn.torn_share(), kTornShare) << torn.torn_pairs << " of " << torn.pairs;
+  EXPECT_GT(torn.torn_samples, 1);
+  // The whole mirror image keeps every neighbourhood: it tears nothing.
+  EXPECT_EQ(measure_map_tearing(*source_, *target_, mirror_).torn_pairs, 0);
+
+  MatchResult result = chosen_over(mirror_, 1.5);
+  result.quality.torn_share = torn.torn_share();
+  const MatchVerdict verdict = diagnose(*source_, *target_, result);
+  EXPECT_TRUE(verdict.suspect);
+  ASSERT_EQ(verdict.reasons.size(), 1u);
+  EXPECT_NE(verdict.reasons[0].find("tears the surface"), std::string::npos) << verdict.reasons[0];
+  result.quality.torn_share = right.torn_share();
+  EXPECT_FALSE(diagnose(*source_, *target_, result).suspect);
 }
 
 }  // namespace

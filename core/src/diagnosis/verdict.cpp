@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <string>
 
+#include "isocorr/diagnosis/map_tearing.h"
 #include "isocorr/refinement/dense_choice.h"
 #include "isocorr/transfer/landmarks.h"
 
@@ -32,6 +33,15 @@ void check_competitors(const PreprocessedShape& source, const PreprocessedShape&
       close.front(), map_separation(source, target, c.forward, chosen.forward), c.evidence.orientation,
       chosen.evidence.orientation, 100 * std::abs(margin), margin >= 0 ? "above" : "below",
       chosen.reverse_score > 0 ? ", decided by both directions' evidence" : ""));
+}
+
+// A map that tears the surface in more places than right maps do.
+void check_tearing(const MatchQuality& quality, MatchVerdict& verdict) {
+  if (quality.torn_share <= kTornShare) return;
+  verdict.reasons.push_back(sentence(
+      "the map tears the surface: %.1f%% of the pairs of neighbouring samples land more than %.1f times as far apart "
+      "(right maps stay under %.1f%%): a region may be mapped to the wrong place",
+      100 * quality.torn_share, kTearStretch, 100 * kTornShare));
 }
 
 }  // namespace
@@ -74,6 +84,7 @@ std::vector<int> close_competitors(const PreprocessedShape& source, const Prepro
 MatchVerdict diagnose(const PreprocessedShape& source, const PreprocessedShape& target, const MatchResult& result) {
   MatchVerdict verdict;
   check_competitors(source, target, result.diagnostics.refinement, verdict);
+  check_tearing(result.quality, verdict);
   if (result.quality.orientation < kMirrorOrientation)
     verdict.reasons.push_back(sentence("the map keeps the handedness of only %.2f of the faces: it may be a mirror image",
                                        result.quality.orientation));

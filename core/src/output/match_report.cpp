@@ -80,6 +80,7 @@ std::string match_report_json(const MatchResult& result, const MatchSettings& se
                            {"chosen_map_honours_them", landmarks.honoured}};
   report["final"] = {{"diso", result.quality.diso}, {"diso_max", result.quality.diso_max},
                      {"orientation", result.quality.orientation},
+                     {"torn_share", result.quality.torn_share},
                      {"source_vertices", result.output.forward.size()},
                      {"target_vertices", result.output.reverse.size()}};
   if (settings.method != MatchMethod::kFull) {

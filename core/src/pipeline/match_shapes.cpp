@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "isocorr/diagnosis/map_tearing.h"
 #include "isocorr/diagnosis/verdict.h"
 #include "isocorr/matching/matcher.h"
 #include "isocorr/matching/orientation.h"
@@ -48,9 +49,10 @@ void to_file_numbering(const DenseMap& dense, const CleanMesh& source, const Cle
 // while choosing (D_iso as the winner's distortion between coarse samples, exactly); the
 // C2F map's come from its anchors' residuals.
 void measure_quality(const PreprocessedShape& source, const PreprocessedShape& target, const DenseMap& dense,
-                     MatchResult& result) {
+                     MatchMethod method, MatchResult& result) {
   const RefinementDiagnostics& refinement = result.diagnostics.refinement;
   MatchQuality& quality = result.quality;
+  if (method == MatchMethod::kFull) quality.torn_share = measure_map_tearing(source, target, dense.forward).torn_share();
   if (!refinement.candidates.empty()) {
     const DenseEvidence& winner = refinement.candidates[refinement.chosen].evidence;
     quality.diso = winner.distortion;
@@ -78,7 +80,7 @@ MatchResult match_shapes(const PreprocessedShape& source, const PreprocessedShap
                              ? match_part_or_whole(source, target, settings, result, control)
                              : match_whole(source, target, settings, result, control);
   StageClock clock(result.timings.stages);
-  measure_quality(source, target, dense, result);
+  measure_quality(source, target, dense, settings.method, result);
   result.verdict = diagnose(source, target, result);
   clock.finish("diagnose");
   const CleanMesh& sc = source.clean();

@@ -5,6 +5,8 @@
 //    between two different maps, and a mirrored or turned body often wins such ties;
 //  - reversed handedness: the map reverses the handedness of most faces (only possible when
 //    every candidate did, and the choice fell back to the best of them);
+//  - tearing: more neighbouring points of the source land far apart than on right maps
+//    (map_tearing.h): the border of a region mapped to the wrong place;
 //  - landmarks not honoured: the chosen map sent a landmark beyond kLandmarkTolerance before
 //    it was pinned.
 // The thresholds were set on the development pairs with their ground truth
@@ -42,7 +44,7 @@ std::vector<int> close_competitors(const PreprocessedShape& source, const Prepro
                                    const std::vector<DenseCandidate>& candidates, int chosen);
 
 // The verdict on `result` (candidates still in clean numbering: called before the maps are
-// put in the files' numbering).
+// put in the files' numbering); the tearing check reads result.quality.torn_share.
 MatchVerdict diagnose(const PreprocessedShape& source, const PreprocessedShape& target, const MatchResult& result);
 
 }  // namespace isocorr

@@ -23,6 +23,9 @@ struct MatchQuality {
                            // distortion between coarse samples
   double diso_max = 0;     // d_iso-dagger
   double orientation = 0;  // fraction of source faces keeping handedness
+  // share of neighbouring sample pairs the map tears (diagnosis/map_tearing.h); -1: not
+  // measured (a part's map, whose scale the measure cannot take)
+  double torn_share = -1;
   // method = part or ravac: the source's scale per target unit (in the files' units), and
   // the share of the target's area the part's image covers (reverse map -1 elsewhere).
   double part_scale = 0;
