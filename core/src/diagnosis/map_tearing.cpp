@@ -5,18 +5,12 @@
 #include <numeric>
 
 namespace isocorr {
-namespace {
-
-// The largest difference of the target's sample fields at x and y: a lower bound of the
-// geodesic distance between them, / the target's diameter.
-float distance_lower_bound(const PreprocessedShape& target, int x, int y) {
+float sample_field_distance_bound(const PreprocessedShape& shape, int x, int y) {
   float largest = 0;
-  for (int i = 0; i < target.num_samples(); ++i)
-    largest = std::max(largest, std::abs(target.field(i, x) - target.field(i, y)));
+  for (int i = 0; i < shape.num_samples(); ++i)
+    largest = std::max(largest, std::abs(shape.field(i, x) - shape.field(i, y)));
   return largest;
 }
-
-}  // namespace
 
 MapTearing measure_map_tearing(const PreprocessedShape& source, const PreprocessedShape& target,
                                const std::vector<int>& forward) {
@@ -39,7 +33,7 @@ MapTearing measure_map_tearing(const PreprocessedShape& source, const Preprocess
       const int other_image = forward[source.sample_vertex(b)];
       if (!(apart > 0) || image < 0 || other_image < 0) continue;
       ++tearing.pairs;
-      if (distance_lower_bound(target, image, other_image) > kTearStretch * apart) {
+      if (sample_field_distance_bound(target, image, other_image) > kTearStretch * apart) {
         ++tearing.torn_pairs;
         torn = true;
       }

@@ -27,6 +27,10 @@ struct MapTearing {
   double torn_share() const { return pairs > 0 ? static_cast<double>(torn_pairs) / pairs : 0.0; }
 };
 
+// A lower bound of the geodesic distance between vertices x and y of `shape`, / its
+// diameter: the largest difference of its sample fields at the two (each is 1-Lipschitz).
+float sample_field_distance_bound(const PreprocessedShape& shape, int x, int y);
+
 // Compares each source sample with its kTearNeighbours nearest samples: a pair is torn when
 // the geodesic distance between the images, / the target's diameter, exceeds kTearStretch
 // times theirs, / the source's diameter. The images' distance is bounded below by the
